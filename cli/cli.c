@@ -1,0 +1,31 @@
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "cli.h"
+
+int cli_fail(const SqError *err)
+{
+    if (err->where[0])
+        fprintf(stderr, "squama: %s (%s)\n", err->what, err->where);
+    else
+        fprintf(stderr, "squama: %s\n", err->what);
+    return CLI_FAIL;
+}
+
+int cli_usage(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    fputs("squama: ", stderr);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, " (see 'squama %s%s--help')\n", cmd ? cmd : "", cmd ? " " : "");
+    return CLI_USAGE;
+}
+
+const char *cli_presets_dir(void)
+{
+    const char *env = getenv("SQUAMA_PRESETS");
+    return env && *env ? env : SQUAMA_PRESETS_DIR;
+}

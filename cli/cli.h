@@ -1,0 +1,28 @@
+/* The squama program: shared helpers of the command files. */
+#ifndef SQUAMA_CLI_H
+#define SQUAMA_CLI_H
+
+#include "squama/error.h"
+
+/* One command: `squama NAME ...`. */
+typedef struct CliCommand {
+    const char *name;
+    const char *summary;
+    int (*run)(int argc, char **argv); /* argv[0] is the command name */
+} CliCommand;
+
+int cmd_params(int argc, char **argv);
+int cmd_presets(int argc, char **argv);
+
+enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
+
+/* Prints "squama: <what> (<where>)" to stderr; returns CLI_FAIL. */
+int cli_fail(const SqError *err);
+
+/* Prints "squama: <message> (see 'squama <cmd> --help')" to stderr; returns CLI_USAGE. */
+int cli_usage(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Where the shipped presets live: $SQUAMA_PRESETS, else the source tree's presets/. */
+const char *cli_presets_dir(void);
+
+#endif

@@ -1,0 +1,288 @@
+/* The parameter table: every parameter of the procedural model, in preset order.
+ *
+ * The 59 parameters of the thesis (Pinheiro 2017) are the parameters of its Substance
+ * graph: 48 are named and described in Chapter 4-5; 11 more appear only as labels in the
+ * parameter listing of Appendix D.11 (marked SQ_ORIGIN_THESIS_D11, with the label in
+ * `ref`). Where the text gives a range it is the suggested range here; hard ranges are
+ * what the generator accepts at all. Appendix D labels that differ from the Chapter 4
+ * names: "Expansion" (Pattern group) is Pattern_Contrast, "Longitudinal_Separation" is
+ * Longitudinal_Pinch, "Keel_Keel_keel_thinness" t is ScaleShape_KeelThickness 1 - t,
+ * "Scales_Scales_normal" is Normal_Intensity.
+ */
+#include <stddef.h>
+
+#include "squama/params.h"
+
+#define F(field) offsetof(SqParams, field)
+#define UNIT .min = 0, .max = 1, .smin = 0, .smax = 1
+
+const char *const sq_pattern_type_names[] = {
+    "none", "longitudinal", "transversal", "spots", "other_simple", "complex", NULL,
+};
+
+/* Figure 4.9's example automaton: the default for Pattern_Type other_simple. */
+static const char ca_default[] =
+    "0 0 1 1 1 1 0 0\nrectangular\n0\n6\n1110 1\n1100 1\n1000 x\n";
+
+#define COLOR(field, r, g, b, a) \
+    .type = SQ_PT_COLOR, .offset = F(field), .def = {r, g, b, a}, UNIT
+
+#define TRANSVERSAL(i, r, g, b, b0, b1)                                                   \
+    {.name = "Transversal_Color" #i, COLOR(Transversal_Color[i - 1], r, g, b, 1),         \
+     .group = "transversal", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.1",                 \
+     .help = "colour of transversal stripe " #i "; alpha 0 omits it"},                    \
+    {.name = "Transversal_BeginEnd" #i, .type = SQ_PT_VEC2,                               \
+     .offset = F(Transversal_BeginEnd[i - 1]), .def = {b0, b1}, UNIT,                     \
+     .group = "transversal", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.1",                 \
+     .help = "where stripe " #i " begins and ends along v (texture height); equal "       \
+             "values omit it"}
+
+static const SqParamSpec table[] = {
+    /* ---- pattern type and background colour ---- */
+    {.name = "Pattern_Type", .type = SQ_PT_ENUM, .offset = F(Pattern_Type),
+     .choices = sq_pattern_type_names, .def = {SQ_PATTERN_NONE},
+     .min = 0, .max = SQ_PATTERN_COUNT - 1, .smin = 0, .smax = SQ_PATTERN_COUNT - 1,
+     .group = "pattern type", .origin = SQ_ORIGIN_THESIS, .ref = "§3.1, §4.1",
+     .help = "pattern category; other_simple is drawn by a cellular automaton"},
+    {.name = "Background_Color", COLOR(Background_Color, 0.42, 0.36, 0.26, 1),
+     .group = "background", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2",
+     .help = "the snake's predominant skin colour, under the pattern"},
+    {.name = "Color_NoiseIntensity", .type = SQ_PT_FLOAT, .offset = F(Color_NoiseIntensity),
+     .def = {0}, .min = 0, .max = 1, .smin = 0, .smax = 0.5,
+     .group = "background", .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"Noise Intensity\"",
+     .help = "strength of a low-frequency noise that varies the base colour"},
+
+    /* ---- transversal stripes (rings) ---- */
+    TRANSVERSAL(1, 0.05, 0.05, 0.05, 0.0, 0.25),
+    TRANSVERSAL(2, 0.90, 0.85, 0.60, 1.0, 1.0),
+    TRANSVERSAL(3, 0.80, 0.10, 0.05, 1.0, 1.0),
+    TRANSVERSAL(4, 0.20, 0.20, 0.80, 1.0, 1.0),
+
+    /* ---- longitudinal stripes ---- */
+    {.name = "Longitudinal_NumberOfStripes", .type = SQ_PT_INT,
+     .offset = F(Longitudinal_NumberOfStripes), .def = {1}, .min = 1, .max = 64,
+     .smin = 1, .smax = 10, .group = "longitudinal", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.2.2", .help = "how many stripes run along the body"},
+    {.name = "Longitudinal_StripesWidth", .type = SQ_PT_FLOAT,
+     .offset = F(Longitudinal_StripesWidth), .def = {0.3}, UNIT, .group = "longitudinal",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.2",
+     .help = "stripe width as a fraction of the texture width, divided by the number "
+             "of stripes"},
+    {.name = "Longitudinal_StripesColor", COLOR(Longitudinal_StripesColor, 0.85, 0.75, 0.30, 1),
+     .group = "longitudinal", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.2",
+     .help = "colour of the stripes"},
+    {.name = "Longitudinal_Pinch", .type = SQ_PT_FLOAT, .offset = F(Longitudinal_Pinch),
+     .def = {1}, .min = 0, .max = 64, .smin = 0, .smax = 10, .group = "longitudinal",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.2 (D.11 \"Longitudinal_Separation\")",
+     .help = "squeezes the stripes towards the dorsal midline: 1 no change, 2 half the "
+             "width, 4 a quarter"},
+
+    /* ---- spots ---- */
+    {.name = "Spots_Scale", .type = SQ_PT_FLOAT, .offset = F(Spots_Scale), .def = {0.5},
+     .min = 0, .max = 8, .smin = 0, .smax = 2, .group = "spots", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.2.3", .help = "overall size of each spot"},
+    {.name = "Spots_ScaleVariation", .type = SQ_PT_FLOAT, .offset = F(Spots_ScaleVariation),
+     .def = {0}, UNIT, .group = "spots", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "random size variation: 0.5 gives sizes from 50% to 100%"},
+    {.name = "Spots_PositionRandom", .type = SQ_PT_VEC2, .offset = F(Spots_PositionRandom),
+     .def = {0, 0}, UNIT, .group = "spots", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "random displacement in x and y; 1 reaches the neighbouring spot's place"},
+    {.name = "Spots_Offset", .type = SQ_PT_FLOAT, .offset = F(Spots_Offset), .def = {0},
+     .min = 0, .max = 1, .smin = 0, .smax = 0.5, .group = "spots", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.2.3",
+     .help = "shift of every other row: 0 a grid, 0.5 a grid rotated 45 degrees"},
+    {.name = "Spots_Color", COLOR(Spots_Color, 0.10, 0.07, 0.05, 1), .group = "spots",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3", .help = "colour of the spots"},
+    {.name = "Spots_Interstice", .type = SQ_PT_VEC2, .offset = F(Spots_Interstice),
+     .def = {0, 0}, UNIT, .group = "spots", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "narrows each spot's width and height: 0 round, 0.5 half the radius"},
+    {.name = "Spots_IntersticeRandom", .type = SQ_PT_VEC2,
+     .offset = F(Spots_IntersticeRandom), .def = {0, 0}, UNIT, .group = "spots",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "random variation of each spot's width and height"},
+    {.name = "Spots_Rotation", .type = SQ_PT_FLOAT, .offset = F(Spots_Rotation), .def = {0},
+     .min = 0, .max = 360, .smin = 0, .smax = 360, .group = "spots",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3", .help = "rotation of every spot, degrees"},
+    {.name = "Spots_RotationRandom", .type = SQ_PT_FLOAT, .offset = F(Spots_RotationRandom),
+     .def = {0}, .min = 0, .max = 180, .smin = 0, .smax = 180, .group = "spots",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "random rotation of each spot, up to this many degrees either way"},
+    {.name = "Spots_Tiling", .type = SQ_PT_FLOAT, .offset = F(Spots_Tiling), .def = {1},
+     .min = 0.05, .max = 32, .smin = 0.1, .smax = 5, .flags = SQ_PF_LOG, .group = "spots",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.3",
+     .help = "1 gives 10x10 spots per texture; less zooms in, more repeats"},
+
+    /* ---- other simple pattern: the automaton image, coloured ---- */
+    {.name = "CustomPattern_Color_Inside",
+     COLOR(CustomPattern_Color_Inside, 0.12, 0.09, 0.06, 1), .group = "custom pattern",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"CustomPattern_Color_inside\"",
+     .help = "colour of the pattern (the automaton's 1 cells)"},
+    {.name = "CustomPattern_Color_Outside",
+     COLOR(CustomPattern_Color_Outside, 0.0, 0.0, 0.0, 0), .group = "custom pattern",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"CustomPattern_Color_outsid\"",
+     .help = "colour between the pattern (0 cells); alpha 0 shows the background"},
+    {.name = "CustomPattern_LevelInLow", .type = SQ_PT_FLOAT,
+     .offset = F(CustomPattern_LevelInLow), .def = {0}, UNIT, .group = "custom pattern",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"CustomPattern_Levelinlow\"",
+     .help = "levels: input black point of the pattern image"},
+    {.name = "CustomPattern_LevelInHigh", .type = SQ_PT_FLOAT,
+     .offset = F(CustomPattern_LevelInHigh), .def = {1}, UNIT, .group = "custom pattern",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"CustomPattern_Levelinhigh\"",
+     .help = "levels: input white point of the pattern image"},
+    {.name = "CustomPattern_LevelInMid", .type = SQ_PT_FLOAT,
+     .offset = F(CustomPattern_LevelInMid), .def = {0.5}, UNIT, .group = "custom pattern",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"CustomPattern_Levelinmid\"",
+     .help = "levels: midtone of the pattern image (0.5 linear)"},
+
+    /* ---- cellular automaton ---- */
+    {.name = "CA_Descriptor", .type = SQ_PT_CA, .offset = F(CA_Descriptor),
+     .def_text = ca_default, .group = "cellular automaton", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.2.4, App. E",
+     .help = "the automaton: initial row, type, shift mirror, epochs, rule schedule "
+             "(descriptor text or object)"},
+    {.name = "CA_CircleDiameter", .type = SQ_PT_FLOAT, .offset = F(CA_CircleDiameter),
+     .def = {1}, .min = 0.05, .max = 4, .smin = 0.5, .smax = 2, .group = "cellular automaton",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.4",
+     .help = "diameter of the circle painted per cell, relative to the cell spacing"},
+
+    /* ---- pattern post-process ---- */
+    {.name = "Pattern_RotatePattern90Degrees", .type = SQ_PT_BOOL,
+     .offset = F(Pattern_RotatePattern90Degrees), .def = {0}, UNIT,
+     .group = "pattern post-process", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.4",
+     .help = "rotates the pattern 90 degrees (automata that read better along the body)"},
+    {.name = "Pattern_BlurAmount", .type = SQ_PT_FLOAT, .offset = F(Pattern_BlurAmount),
+     .def = {0}, .min = 0, .max = 64, .smin = 0, .smax = 16, .group = "pattern post-process",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.4",
+     .help = "blur applied to the whole pattern"},
+    {.name = "Pattern_Contrast", .type = SQ_PT_FLOAT, .offset = F(Pattern_Contrast),
+     .def = {0}, UNIT, .group = "pattern post-process", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.2.4 (D.11 \"Expansion\")",
+     .help = "contrast applied to the whole pattern after the blur"},
+    {.name = "Pattern_Warp_Small", .type = SQ_PT_FLOAT, .offset = F(Pattern_Warp_Small),
+     .def = {0}, .min = 0, .max = 4, .smin = 0, .smax = 1, .group = "pattern post-process",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.7",
+     .help = "distortion by high-frequency Perlin noise (micro variation)"},
+    {.name = "Pattern_Warp_Large", .type = SQ_PT_FLOAT, .offset = F(Pattern_Warp_Large),
+     .def = {0}, .min = 0, .max = 40, .smin = 0, .smax = 10, .group = "pattern post-process",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.7",
+     .help = "distortion by low-frequency Perlin noise (macro variation)"},
+
+    /* ---- outline ---- */
+    {.name = "Has_Outline", .type = SQ_PT_BOOL, .offset = F(Has_Outline), .def = {0}, UNIT,
+     .group = "outline", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6",
+     .help = "draws an outline around the pattern; the other Outline_ parameters need it"},
+    {.name = "Outline_Color", COLOR(Outline_Color, 0.015, 0.015, 0.015, 1),
+     .group = "outline", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6",
+     .help = "colour of the outline"},
+    {.name = "Outline_Edge_Width", .type = SQ_PT_FLOAT, .offset = F(Outline_Edge_Width),
+     .def = {2}, .min = 0, .max = 64, .smin = 0, .smax = 16, .group = "outline",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6", .help = "thickness of the outline"},
+    {.name = "Outline_Blur", .type = SQ_PT_FLOAT, .offset = F(Outline_Blur), .def = {1},
+     .min = 0, .max = 64, .smin = 0, .smax = 16, .group = "outline",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6", .help = "blur of the distorted outline"},
+    {.name = "Outline_Edge_Roundness", .type = SQ_PT_FLOAT, .offset = F(Outline_Edge_Roundness),
+     .def = {0}, .min = 0, .max = 64, .smin = 0, .smax = 16, .group = "outline",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6", .help = "rounds the outline's hard edges"},
+    {.name = "Outline_Distortion_Intensity", .type = SQ_PT_FLOAT,
+     .offset = F(Outline_Distortion_Intensity), .def = {0}, .min = 0, .max = 40, .smin = 0,
+     .smax = 10, .group = "outline", .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.6",
+     .help = "distortion of the outline by the scales' height map"},
+
+    /* ---- single scale shape ---- */
+    {.name = "ScaleShape_Contrast", .type = SQ_PT_FLOAT, .offset = F(ScaleShape_Contrast),
+     .def = {0.5}, UNIT, .group = "scale shape", .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.1",
+     .help = "midtones of the scale's circle: higher makes the scale more solid"},
+    {.name = "ScaleShape_Blur", .type = SQ_PT_FLOAT, .offset = F(ScaleShape_Blur),
+     .def = {2}, .min = 0, .max = 64, .smin = 0, .smax = 16, .group = "scale shape",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.1", .help = "blur of the leaf shape"},
+    {.name = "ScaleShape_Gradient", .type = SQ_PT_FLOAT, .offset = F(ScaleShape_Gradient),
+     .def = {0.5}, UNIT, .group = "scale shape", .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.1",
+     .help = "contrast of the linear gradient that makes the scale's height"},
+    {.name = "ScaleShape_Ridge", .type = SQ_PT_FLOAT, .offset = F(ScaleShape_Ridge),
+     .def = {0}, UNIT, .group = "scale shape", .origin = SQ_ORIGIN_THESIS_D11,
+     .ref = "D.11 \"Ridge\"", .help = "height of a soft ridge along the scale's middle"},
+    {.name = "ScaleShape_IsKeeled", .type = SQ_PT_BOOL, .offset = F(ScaleShape_IsKeeled),
+     .def = {0}, UNIT, .group = "scale shape", .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.1",
+     .help = "keeled scales (a longitudinal keel) instead of smooth ones"},
+    {.name = "ScaleShape_KeelThickness", .type = SQ_PT_FLOAT,
+     .offset = F(ScaleShape_KeelThickness), .def = {0.05}, .min = 0, .max = 1, .smin = 0.02,
+     .smax = 0.1, .group = "scale shape", .origin = SQ_ORIGIN_THESIS,
+     .ref = "§4.3.1 (D.11 \"Keel_Keel_keel_thinness\" = 1 - thickness)",
+     .help = "width of the keel: 0 vanishes, 1 the scale's whole width"},
+    {.name = "ScaleShape_KeelDistortion", .type = SQ_PT_FLOAT,
+     .offset = F(ScaleShape_KeelDistortion), .def = {0}, UNIT, .group = "scale shape",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 \"Keel Distortion\"",
+     .help = "irregularity of the keel line"},
+
+    /* ---- scales ---- */
+    {.name = "Scales_DetailNormal", .type = SQ_PT_FLOAT, .offset = F(Scales_DetailNormal),
+     .def = {0.02}, .min = 0, .max = 1, .smin = 0, .smax = 0.05, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.2",
+     .help = "intensity of the fractal-sum micro detail on the height map"},
+    {.name = "Scales_XAmount", .type = SQ_PT_INT, .offset = F(Scales_XAmount), .def = {16},
+     .min = 1, .max = 256, .smin = 1, .smax = 64, .flags = SQ_PF_LOG, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.2", .help = "scales across the texture (u)"},
+    {.name = "Scales_YAmount", .type = SQ_PT_INT, .offset = F(Scales_YAmount), .def = {32},
+     .min = 1, .max = 256, .smin = 1, .smax = 64, .flags = SQ_PF_LOG, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.2", .help = "scales along the texture (v)"},
+    {.name = "Scales_ScaleSize", .type = SQ_PT_FLOAT, .offset = F(Scales_ScaleSize),
+     .def = {1}, .min = 0, .max = 4, .smin = 0, .smax = 2, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.2", .help = "size of each scale"},
+    {.name = "Scales_ScaleSizeXY", .type = SQ_PT_VEC2, .offset = F(Scales_ScaleSizeXY),
+     .def = {1, 1}, .min = 0.1, .max = 4, .smin = 0.5, .smax = 2.5, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS_D11, .ref = "D.11 second \"Scale Size\"",
+     .help = "width and height multipliers of each scale"},
+    {.name = "Scales_Expansion", .type = SQ_PT_FLOAT, .offset = F(Scales_Expansion),
+     .def = {0}, UNIT, .group = "scales", .origin = SQ_ORIGIN_THESIS_D11,
+     .ref = "D.11 \"Expansion\" (Scales)",
+     .help = "grows each scale into the gaps between scales (0 none, 1 gaps closed)"},
+    {.name = "Scales_SizeRandom", .type = SQ_PT_FLOAT, .offset = F(Scales_SizeRandom),
+     .def = {0}, .min = 0, .max = 1, .smin = 0, .smax = 0.3, .group = "scales",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "§4.3.2 (unnamed there)",
+     .help = "random size variation of each scale"},
+    {.name = "Scales_PositionRandom", .type = SQ_PT_VEC2, .offset = F(Scales_PositionRandom),
+     .def = {0, 0}, .min = 0, .max = 1, .smin = 0, .smax = 0.3, .group = "scales",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "§4.3.2 (unnamed there)",
+     .help = "random displacement of each scale in x and y, in scale spacings"},
+    {.name = "Scales_RotationRandom", .type = SQ_PT_FLOAT, .offset = F(Scales_RotationRandom),
+     .def = {0}, .min = 0, .max = 180, .smin = 0, .smax = 20, .group = "scales",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "§4.3.2 (unnamed there)",
+     .help = "random rotation of each scale, up to this many degrees either way"},
+    {.name = "Scales_BellyScalesPct", .type = SQ_PT_FLOAT, .offset = F(Scales_BellyScalesPct),
+     .def = {0.15}, .min = 0, .max = 0.5, .smin = 0.1, .smax = 0.2, .group = "scales",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.3.3",
+     .help = "width of the ventral area at each side edge, as a fraction of the texture "
+             "width"},
+    {.name = "Scales_BellyWarpIntensity", .type = SQ_PT_FLOAT,
+     .offset = F(Scales_BellyWarpIntensity), .def = {0}, .min = 0, .max = 40, .smin = 0,
+     .smax = 10, .group = "scales", .origin = SQ_ORIGIN_THESIS_D11,
+     .ref = "D.11 \"Belly_warp_intensity\"",
+     .help = "distortion of the stretched ventral scales"},
+
+    /* ---- roughness and normal map ---- */
+    {.name = "Scales_RoughnessMin", .type = SQ_PT_FLOAT, .offset = F(Scales_RoughnessMin),
+     .def = {0.3}, .min = 0, .max = 1, .smin = 0.2, .smax = 0.9, .group = "roughness",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.4",
+     .help = "minimum roughness (black level of the noise); 0.2-0.4 smooth, 0.6-0.9 keeled"},
+    {.name = "Scales_RoughnessMax", .type = SQ_PT_FLOAT, .offset = F(Scales_RoughnessMax),
+     .def = {0.4}, .min = 0, .max = 1, .smin = 0.2, .smax = 0.9, .group = "roughness",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§4.4",
+     .help = "maximum roughness (white level of the noise)"},
+    {.name = "Normal_Intensity", .type = SQ_PT_FLOAT, .offset = F(Normal_Intensity),
+     .def = {2}, .min = 0, .max = 32, .smin = 0, .smax = 8, .group = "normal",
+     .origin = SQ_ORIGIN_THESIS, .ref = "§5 (D.11 \"Scales_Scales_normal\")",
+     .help = "strength of the normal map made from the height map"},
+
+    /* ---- squama ---- */
+    {.name = "Seed", .type = SQ_PT_INT, .offset = F(Seed), .def = {1}, .min = 0,
+     .max = 2147483647.0, .smin = 0, .smax = 2147483647.0, .flags = SQ_PF_NOSEARCH,
+     .group = "squama", .origin = SQ_ORIGIN_SQUAMA, .ref = "",
+     .help = "seed of every random choice: same preset and seed, same pixels"},
+};
+
+const SqParamSpec *sq_params_table(size_t *count)
+{
+    if (count)
+        *count = sizeof table / sizeof table[0];
+    return table;
+}

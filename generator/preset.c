@@ -1,0 +1,511 @@
+/* Presets: strict JSON loading and exact saving, driven by the parameter table. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "json_util.h"
+#include "squama/preset.h"
+
+enum { MAX_KEYS = 1000 };
+
+typedef struct Ctx {
+    const char *text;
+    size_t len;
+    const char *name;
+    SqError *err;
+} Ctx;
+
+/* 1-based line of the `occurrence`-th (1-based) appearance of "key" used as an object
+ * key (followed by optional white space and ':'), or 0 when not found. */
+static int key_line(const Ctx *c, const char *key, int occurrence)
+{
+    size_t klen = strlen(key);
+    int line = 1, seen = 0;
+    for (size_t i = 0; i < c->len; i++) {
+        if (c->text[i] == '\n') {
+            line++;
+            continue;
+        }
+        if (c->text[i] != '"' || i + klen + 2 > c->len)
+            continue;
+        if (memcmp(c->text + i + 1, key, klen) != 0 || c->text[i + 1 + klen] != '"')
+            continue;
+        size_t j = i + klen + 2;
+        while (j < c->len && (c->text[j] == ' ' || c->text[j] == '\t' || c->text[j] == '\r' ||
+                              c->text[j] == '\n'))
+            j++;
+        if (j < c->len && c->text[j] == ':' && ++seen == occurrence)
+            return line;
+    }
+    return 0;
+}
+
+static const char *where_key(const Ctx *c, const char *key, int occurrence, char *buf, size_t n)
+{
+    int line = key ? key_line(c, key, occurrence) : 0;
+    if (line > 0)
+        snprintf(buf, n, "%s:%d", c->name, line);
+    else
+        snprintf(buf, n, "%s", c->name);
+    return buf;
+}
+
+static SqStatus fail(const Ctx *c, SqStatus st, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static SqStatus fail(const Ctx *c, SqStatus st, const char *key, const char *fmt, ...)
+{
+    char where[SQ_ERROR_WHERE_MAX], what[SQ_ERROR_WHAT_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    where_key(c, key, 1, where, sizeof where);
+    return sq_error_set(c->err, st, where, "%s", what);
+}
+
+/* "a string", "an array", ... for messages about wrong types. */
+static const char *describe(const cJSON *v, char *buf, size_t n)
+{
+    if (cJSON_IsNumber(v)) snprintf(buf, n, "%.9g", v->valuedouble);
+    else if (cJSON_IsString(v)) snprintf(buf, n, "the string \"%.40s\"", v->valuestring);
+    else if (cJSON_IsTrue(v)) snprintf(buf, n, "true");
+    else if (cJSON_IsFalse(v)) snprintf(buf, n, "false");
+    else if (cJSON_IsNull(v)) snprintf(buf, n, "null");
+    else if (cJSON_IsArray(v)) snprintf(buf, n, "an array of %d", cJSON_GetArraySize(v));
+    else if (cJSON_IsObject(v)) snprintf(buf, n, "an object");
+    else snprintf(buf, n, "an unknown value");
+    return buf;
+}
+
+static const char *range_hint(const SqParamSpec *s, char *buf, size_t n)
+{
+    if (s->smin != s->min || s->smax != s->max)
+        snprintf(buf, n, "; suggested %.9g to %.9g", s->smin, s->smax);
+    else
+        buf[0] = '\0';
+    return buf;
+}
+
+static SqStatus get_number(const Ctx *c, const SqParamSpec *s, const cJSON *v, const char *what,
+                           double *out)
+{
+    char got[80], hint[80];
+    if (!cJSON_IsNumber(v))
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s must be a number in [%.9g, %.9g], got %s",
+                    s->name, what, s->min, s->max, describe(v, got, sizeof got));
+    double d = v->valuedouble;
+    if (!isfinite(d))
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is not a finite number", s->name, what);
+    if (d < s->min || d > s->max)
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is %.9g, outside its range [%.9g, %.9g]%s",
+                    s->name, what, d, s->min, s->max, range_hint(s, hint, sizeof hint));
+    *out = d;
+    return SQ_OK;
+}
+
+/* ---- the cellular automaton as a JSON object ---- */
+
+static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *obj, SqCa *ca)
+{
+    static const char *const keys[] = {"initial", "type", "shift_mirror", "epochs", "rules", NULL};
+    char where[SQ_ERROR_WHERE_MAX], got[80];
+    SqStatus st;
+    memset(ca, 0, sizeof *ca);
+    where_key(c, s->name, 1, where, sizeof where);
+
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        int known = 0;
+        for (int k = 0; keys[k]; k++)
+            known |= strcmp(it->string, keys[k]) == 0;
+        if (!known)
+            return fail(c, SQ_ERR_INVALID, s->name,
+                        "\"%s\" has an unknown key \"%.60s\" (keys: initial, type, "
+                        "shift_mirror, epochs, rules)",
+                        s->name, it->string);
+        for (const cJSON *o = it->next; o; o = o->next)
+            if (strcmp(o->string, it->string) == 0)
+                return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" has the key \"%s\" twice",
+                            s->name, it->string);
+    }
+    const cJSON *initial = cJSON_GetObjectItemCaseSensitive(obj, "initial");
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(obj, "type");
+    const cJSON *shift = cJSON_GetObjectItemCaseSensitive(obj, "shift_mirror");
+    const cJSON *epochs = cJSON_GetObjectItemCaseSensitive(obj, "epochs");
+    const cJSON *rules = cJSON_GetObjectItemCaseSensitive(obj, "rules");
+    if (!initial || !type || !epochs || !rules)
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\" needs the keys initial, type, epochs and rules (shift_mirror is "
+                    "optional)",
+                    s->name);
+
+    if (cJSON_IsString(initial)) {
+        if ((st = sq_ca_parse_row(initial->valuestring, ca, where, c->err)) != SQ_OK)
+            return st;
+    } else if (cJSON_IsArray(initial)) {
+        int n = cJSON_GetArraySize(initial);
+        if (n > SQ_CA_MAX_CELLS)
+            return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\".initial has more than %d cells",
+                        s->name, SQ_CA_MAX_CELLS);
+        ca->ncells = 0;
+        for (const cJSON *b = initial->child; b; b = b->next) {
+            if (!cJSON_IsNumber(b) || (b->valuedouble != 0 && b->valuedouble != 1))
+                return fail(c, SQ_ERR_INVALID, s->name,
+                            "\"%s\".initial must hold only 0 and 1, got %s", s->name,
+                            describe(b, got, sizeof got));
+            ca->cells[ca->ncells++] = (uint8_t)b->valuedouble;
+        }
+    } else {
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\".initial must be a string of 0s and 1s or an array, got %s",
+                    s->name, describe(initial, got, sizeof got));
+    }
+
+    if (cJSON_IsString(type) && strcmp(type->valuestring, "rectangular") == 0)
+        ca->type = SQ_CA_RECTANGULAR;
+    else if (cJSON_IsString(type) && strcmp(type->valuestring, "triangular") == 0)
+        ca->type = SQ_CA_TRIANGULAR;
+    else
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\".type must be \"rectangular\" or \"triangular\", got %s", s->name,
+                    describe(type, got, sizeof got));
+
+    if (shift) {
+        if (!cJSON_IsNumber(shift) || shift->valuedouble != floor(shift->valuedouble) ||
+            fabs(shift->valuedouble) > SQ_CA_MAX_SHIFT)
+            return fail(c, SQ_ERR_INVALID, s->name,
+                        "\"%s\".shift_mirror must be an integer in [%d, %d], got %s", s->name,
+                        -SQ_CA_MAX_SHIFT, SQ_CA_MAX_SHIFT, describe(shift, got, sizeof got));
+        ca->shift_mirror = (int)shift->valuedouble;
+    }
+    if (!cJSON_IsNumber(epochs) || epochs->valuedouble != floor(epochs->valuedouble) ||
+        epochs->valuedouble < 1 || epochs->valuedouble > SQ_CA_MAX_EPOCHS)
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\".epochs must be an integer in [1, %d], got %s", s->name,
+                    SQ_CA_MAX_EPOCHS, describe(epochs, got, sizeof got));
+    ca->epochs = (int)epochs->valuedouble;
+
+    if (!cJSON_IsArray(rules) || cJSON_GetArraySize(rules) < 1)
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\".rules must be a non-empty array of rules like \"1110 1\" or "
+                    "\"1000 x\", got %s",
+                    s->name, describe(rules, got, sizeof got));
+    if (cJSON_GetArraySize(rules) > SQ_CA_MAX_RULES)
+        return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\" has more than %d rules", s->name,
+                    SQ_CA_MAX_RULES);
+    for (const cJSON *r = rules->child; r; r = r->next) {
+        if (!cJSON_IsString(r))
+            return fail(c, SQ_ERR_INVALID, s->name,
+                        "\"%s\".rules must hold strings like \"1110 1\", got %s", s->name,
+                        describe(r, got, sizeof got));
+        if ((st = sq_ca_parse_rule(r->valuestring, ca->type, &ca->rules[ca->nrules], where,
+                                   c->err)) != SQ_OK)
+            return st;
+        ca->nrules++;
+    }
+    return sq_ca_validate(ca, where, c->err);
+}
+
+static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, SqParams *p)
+{
+    void *f = sq_param_ptr(p, s);
+    char got[80], what[32];
+    SqStatus st;
+    double d;
+
+    switch (s->type) {
+    case SQ_PT_FLOAT:
+        return get_number(c, s, v, "", (double *)f);
+    case SQ_PT_INT:
+        if (cJSON_IsNumber(v) && isfinite(v->valuedouble) &&
+            v->valuedouble != floor(v->valuedouble))
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be an integer in [%.9g, %.9g], got %.9g",
+                        s->name, s->min, s->max, v->valuedouble);
+        if ((st = get_number(c, s, v, "", &d)) != SQ_OK)
+            return st;
+        *(int *)f = (int)d;
+        return SQ_OK;
+    case SQ_PT_BOOL:
+        if (!cJSON_IsBool(v))
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be true or false, got %s", s->name,
+                        describe(v, got, sizeof got));
+        *(int *)f = cJSON_IsTrue(v) ? 1 : 0;
+        return SQ_OK;
+    case SQ_PT_ENUM:
+        if (cJSON_IsString(v))
+            for (int k = 0; s->choices[k]; k++)
+                if (strcmp(v->valuestring, s->choices[k]) == 0) {
+                    *(int *)f = k;
+                    return SQ_OK;
+                }
+        {
+            char list[256] = "";
+            for (int k = 0; s->choices[k]; k++) {
+                strncat(list, k ? ", " : "", sizeof list - strlen(list) - 1);
+                strncat(list, s->choices[k], sizeof list - strlen(list) - 1);
+            }
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be one of %s; got %s", s->name, list,
+                        describe(v, got, sizeof got));
+        }
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR: {
+        int want = sq_param_components(s->type);
+        int n = cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
+        int ok = s->type == SQ_PT_VEC2 ? n == 2 : (n == 3 || n == 4);
+        if (!ok)
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be %s with components in [%.9g, %.9g], got %s",
+                        s->name,
+                        s->type == SQ_PT_VEC2 ? "an array [x, y]" : "an array [r, g, b, a] (or [r, g, b])",
+                        s->min, s->max, describe(v, got, sizeof got));
+        double tmp[4] = {0, 0, 0, 1};
+        int k = 0;
+        for (const cJSON *e = v->child; e; e = e->next, k++) {
+            snprintf(what, sizeof what, "[%d]", k);
+            if ((st = get_number(c, s, e, what, &tmp[k])) != SQ_OK)
+                return st;
+        }
+        memcpy(f, tmp, sizeof(double) * (size_t)want);
+        return SQ_OK;
+    }
+    case SQ_PT_CA:
+        if (cJSON_IsString(v)) {
+            char where[SQ_ERROR_WHERE_MAX], name[SQ_ERROR_WHERE_MAX + 64];
+            where_key(c, s->name, 1, where, sizeof where);
+            snprintf(name, sizeof name, "%s, %s text line", where, s->name);
+            return sq_ca_parse(v->valuestring, strlen(v->valuestring), name, f, c->err);
+        }
+        if (cJSON_IsObject(v))
+            return ca_from_object(c, s, v, f);
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\" must be descriptor text (a string) or an object, got %s", s->name,
+                    describe(v, got, sizeof got));
+    }
+    return fail(c, SQ_ERR_INTERNAL, s->name, "parameter \"%s\" has an unknown type", s->name);
+}
+
+static SqStatus copy_string(const Ctx *c, const cJSON *v, const char *key, char *dst, size_t n)
+{
+    char got[80];
+    if (!cJSON_IsString(v))
+        return fail(c, SQ_ERR_INVALID, key, "\"%s\" must be a string, got %s", key,
+                    describe(v, got, sizeof got));
+    if (strlen(v->valuestring) >= n)
+        return fail(c, SQ_ERR_LIMIT, key, "\"%s\" is longer than %zu bytes", key, n - 1);
+    if (dst)
+        memcpy(dst, v->valuestring, strlen(v->valuestring) + 1);
+    return SQ_OK;
+}
+
+/* Line and column of a byte offset, for parse errors. */
+static void line_col(const char *text, size_t off, int *line, int *col)
+{
+    *line = 1;
+    *col = 1;
+    for (size_t i = 0; i < off; i++) {
+        if (text[i] == '\n') {
+            ++*line;
+            *col = 1;
+        } else {
+            ++*col;
+        }
+    }
+}
+
+static SqStatus parse_root(const Ctx *c, const cJSON *root, SqParams *out, SqPresetInfo *info)
+{
+    SqPresetInfo scratch;
+    SqStatus st;
+    char got[80];
+    int have_format = 0, nkeys = 0;
+
+    if (!cJSON_IsObject(root))
+        return fail(c, SQ_ERR_INVALID, NULL, "a preset must be a JSON object, got %s",
+                    describe(root, got, sizeof got));
+    if (!info)
+        info = &scratch;
+    info->name[0] = info->notes[0] = '\0';
+    sq_params_default(out);
+
+    for (const cJSON *it = root->child; it; it = it->next)
+        if (++nkeys > MAX_KEYS)
+            return fail(c, SQ_ERR_LIMIT, NULL, "more than %d keys: not a preset", MAX_KEYS);
+    for (const cJSON *it = root->child; it; it = it->next) {
+        for (const cJSON *o = it->next; o; o = o->next)
+            if (strcmp(o->string, it->string) == 0) {
+                char where[SQ_ERROR_WHERE_MAX];
+                return sq_error_set(c->err, SQ_ERR_INVALID,
+                                    where_key(c, it->string, 2, where, sizeof where),
+                                    "key \"%.100s\" appears twice", it->string);
+            }
+        if (strcmp(it->string, "format") == 0) {
+            if (!cJSON_IsString(it) || strcmp(it->valuestring, SQ_PRESET_FORMAT) != 0)
+                return fail(c, SQ_ERR_UNSUPPORTED, "format",
+                            "unsupported preset format %s (this squama reads \"" SQ_PRESET_FORMAT
+                            "\")",
+                            describe(it, got, sizeof got));
+            have_format = 1;
+        } else if (strcmp(it->string, "name") == 0) {
+            if ((st = copy_string(c, it, "name", info->name, sizeof info->name)) != SQ_OK)
+                return st;
+        } else if (strcmp(it->string, "notes") == 0) {
+            if ((st = copy_string(c, it, "notes", info->notes, sizeof info->notes)) != SQ_OK)
+                return st;
+        } else {
+            const SqParamSpec *s = sq_params_find(it->string);
+            if (!s)
+                return fail(c, SQ_ERR_INVALID, it->string,
+                            "unknown key \"%.100s\" (did you mean \"%s\"?)", it->string,
+                            sq_params_closest(it->string)->name);
+            if ((st = set_param(c, s, it, out)) != SQ_OK)
+                return st;
+        }
+    }
+    if (!have_format)
+        return fail(c, SQ_ERR_INVALID, NULL,
+                    "missing \"format\": \"" SQ_PRESET_FORMAT "\" (is this a squama preset?)");
+    SqError tmp;
+    if ((st = sq_params_validate(out, &tmp)) != SQ_OK)
+        return fail(c, st, tmp.where, "%s", tmp.what);
+    return SQ_OK;
+}
+
+SqStatus sq_preset_parse(const char *text, size_t len, const char *name, SqParams *out,
+                         SqPresetInfo *info, SqError *err)
+{
+    Ctx c = {text, len, name ? name : "preset", err};
+    if (len > SQ_PRESET_MAX_BYTES)
+        return fail(&c, SQ_ERR_LIMIT, NULL, "preset larger than %d bytes", SQ_PRESET_MAX_BYTES);
+    if (memchr(text, '\0', len))
+        return fail(&c, SQ_ERR_PARSE, NULL, "contains a NUL byte: not a JSON text file");
+
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    if (!root || !end) {
+        size_t off = end && end >= text && end <= text + len ? (size_t)(end - text) : 0;
+        int line, col;
+        char where[SQ_ERROR_WHERE_MAX];
+        line_col(text, off, &line, &col);
+        snprintf(where, sizeof where, "%s:%d:%d", c.name, line, col);
+        cJSON_Delete(root);
+        if (len == 0)
+            return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON: the file is empty");
+        if (off + 1 >= len) /* cJSON points at the last byte when the text ends early */
+            return sq_error_set(err, SQ_ERR_PARSE, where,
+                                "malformed JSON at the end of the text (unfinished?)");
+        int show = len - off < 20 ? (int)(len - off) : 20; /* text need not end in NUL */
+        return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON near \"%.*s\"", show,
+                            text + off);
+    }
+    for (const char *p = end; p < text + len; p++)
+        if (*p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') {
+            int line, col;
+            char where[SQ_ERROR_WHERE_MAX];
+            line_col(text, (size_t)(p - text), &line, &col);
+            snprintf(where, sizeof where, "%s:%d:%d", c.name, line, col);
+            cJSON_Delete(root);
+            return sq_error_set(err, SQ_ERR_PARSE, where, "unexpected text after the preset");
+        }
+    SqStatus st = parse_root(&c, root, out, info);
+    cJSON_Delete(root);
+    return st;
+}
+
+SqStatus sq_preset_load(const char *path, SqParams *out, SqPresetInfo *info, SqError *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot open preset: %s", strerror(errno));
+    char *buf = malloc((size_t)SQ_PRESET_MAX_BYTES + 1);
+    if (!buf) {
+        fclose(f);
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
+    }
+    size_t n = fread(buf, 1, (size_t)SQ_PRESET_MAX_BYTES + 1, f);
+    int bad = ferror(f);
+    fclose(f);
+    SqStatus st;
+    if (bad)
+        st = sq_error_set(err, SQ_ERR_IO, path, "cannot read preset");
+    else if (n > (size_t)SQ_PRESET_MAX_BYTES)
+        st = sq_error_set(err, SQ_ERR_LIMIT, path, "preset larger than %d bytes",
+                          SQ_PRESET_MAX_BYTES);
+    else
+        st = sq_preset_parse(buf, n, path, out, info, err);
+    free(buf);
+    return st;
+}
+
+/* ---- saving ---- */
+
+static cJSON *ca_to_object(const SqCa *ca)
+{
+    cJSON *o = cJSON_CreateObject();
+    char row[2 * SQ_CA_MAX_CELLS + 1];
+    size_t k = 0;
+    for (int i = 0; i < ca->ncells; i++) {
+        if (i)
+            row[k++] = ' ';
+        row[k++] = (char)('0' + ca->cells[i]);
+    }
+    row[k] = '\0';
+    cJSON_AddStringToObject(o, "initial", row);
+    cJSON_AddStringToObject(o, "type", sq_ca_type_name(ca->type));
+    cJSON_AddNumberToObject(o, "shift_mirror", ca->shift_mirror);
+    cJSON_AddNumberToObject(o, "epochs", ca->epochs);
+    cJSON *rules = cJSON_AddArrayToObject(o, "rules");
+    for (int i = 0; i < ca->nrules; i++) {
+        char r[32];
+        sq_ca_format_rule(ca, i, r, sizeof r);
+        cJSON_AddItemToArray(rules, cJSON_CreateString(r));
+    }
+    return o;
+}
+
+char *sq_preset_to_json(const SqParams *p, const SqPresetInfo *info, SqError *err)
+{
+    SqStatus st = sq_params_validate(p, err);
+    if (st != SQ_OK)
+        return NULL;
+    size_t n;
+    const SqParamSpec *t = sq_params_table(&n);
+    cJSON *root = cJSON_CreateObject();
+    if (!root)
+        goto nomem;
+    cJSON_AddStringToObject(root, "format", SQ_PRESET_FORMAT);
+    if (info && info->name[0])
+        cJSON_AddStringToObject(root, "name", info->name);
+    if (info && info->notes[0])
+        cJSON_AddStringToObject(root, "notes", info->notes);
+    for (size_t i = 0; i < n; i++) {
+        const void *f = sq_param_cptr(p, &t[i]);
+        cJSON *v = NULL;
+        switch (t[i].type) {
+        case SQ_PT_FLOAT: v = sq__json_exact_number(*(const double *)f); break;
+        case SQ_PT_INT: v = cJSON_CreateNumber(*(const int *)f); break;
+        case SQ_PT_BOOL: v = cJSON_CreateBool(*(const int *)f); break;
+        case SQ_PT_ENUM: v = cJSON_CreateString(t[i].choices[*(const int *)f]); break;
+        case SQ_PT_VEC2:
+        case SQ_PT_COLOR:
+            v = cJSON_CreateArray();
+            for (int c = 0; v && c < sq_param_components(t[i].type); c++)
+                cJSON_AddItemToArray(v, sq__json_exact_number(((const double *)f)[c]));
+            break;
+        case SQ_PT_CA: v = ca_to_object(f); break;
+        }
+        if (!v)
+            goto nomem;
+        cJSON_AddItemToObject(root, t[i].name, v);
+    }
+    char *out = sq__json_print(root);
+    cJSON_Delete(root);
+    if (out)
+        return out;
+    root = NULL;
+nomem:
+    cJSON_Delete(root);
+    sq_error_set(err, SQ_ERR_NOMEM, "", "out of memory while writing a preset");
+    return NULL;
+}

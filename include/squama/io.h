@@ -1,0 +1,67 @@
+/* squama — files: images through OpenImageIO, and atomic writes.
+ *
+ * Reading accepts anything OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...), applies the
+ * EXIF orientation, and returns float RGBA. The pixel count is checked from the header
+ * before any decoding, so a hostile or huge file is refused cheaply. Writing goes to a
+ * temporary file beside the target that is renamed over it when complete: an
+ * interrupted write never leaves a half-written file.
+ */
+#ifndef SQUAMA_IO_H
+#define SQUAMA_IO_H
+
+
+#include <stddef.h>
+
+#include "error.h"
+#include "image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { SQ_IO_DEFAULT_MAX_PIXELS = 100000000 }; /* 100 megapixels */
+
+typedef struct SqReadOptions {
+    long long max_pixels; /* refuse larger images; <= 0 means the default */
+} SqReadOptions;
+
+/* Reads an image as RGBA floats (grey is replicated, missing alpha is 1). When the
+ * file has an alpha channel and mask is not NULL, *mask receives a 1-channel
+ * SQ_SPACE_DATA image, 1 where alpha >= 0.5 and 0 elsewhere; otherwise mask->px is
+ * NULL. Colour files decode as SQ_SPACE_SRGB unless they declare linear data (EXR). */
+SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt, SqImage *rgba,
+                          SqImage *mask, SqError *err);
+
+typedef enum SqImageFormat {
+    SQ_FORMAT_AUTO = 0, /* from the file name's extension (.png, .exr) */
+    SQ_FORMAT_PNG,
+    SQ_FORMAT_EXR
+} SqImageFormat;
+
+typedef struct SqWriteOptions {
+    SqImageFormat format;
+    int bits; /* PNG: 8 (default) or 16; EXR: 16 (half, default) or 32 (float) */
+} SqWriteOptions;
+
+/* Writes img atomically. PNG stores sRGB-encoded colour (linear input is encoded),
+ * EXR stores linear colour (sRGB input is decoded); SQ_SPACE_DATA is stored as is.
+ * Values are clamped to [0,1] for PNG. opt may be NULL (PNG, 8 bits). */
+SqStatus sq_io_write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
+                           SqError *err);
+
+/* Writes len bytes atomically (temporary file, fsync, rename). */
+SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqError *err);
+
+/* Reads a whole file (at most max_bytes) into a NUL-terminated malloc'd buffer. */
+SqStatus sq_io_read_file(const char *path, size_t max_bytes, char **data, size_t *len,
+                         SqError *err);
+
+/* sRGB transfer functions (IEC 61966-2-1). */
+float sq_io_srgb_to_linear(float v);
+float sq_io_linear_to_srgb(float v);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SQUAMA_IO_H */

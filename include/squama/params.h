@@ -1,0 +1,202 @@
+/* squama — the parameter set of the procedural model and the one table describing it.
+ *
+ * SqParams holds every parameter of the thesis' model (Chapter 4 and Appendix D: the 59
+ * parameters of its Substance graph) plus squama's own. Field names follow the thesis'
+ * parameter names; `sq_params_table()` describes each field: the name used in presets
+ * (thesis spelling), type, default, hard range, the thesis' suggested range, group and
+ * help. That one table drives defaults, validation, preset I/O, `squama params` and
+ * docs/parameters.md. SqParams is plain data: copy it with `=` or memcpy.
+ *
+ * Colours are gamma-space (sRGB-encoded) RGBA in [0,1], as in the thesis' Appendix D.
+ */
+#ifndef SQUAMA_PARAMS_H
+#define SQUAMA_PARAMS_H
+
+
+#include <stddef.h>
+
+#include "ca.h"
+#include "error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum SqPatternType {
+    SQ_PATTERN_NONE = 0,
+    SQ_PATTERN_LONGITUDINAL,
+    SQ_PATTERN_TRANSVERSAL,
+    SQ_PATTERN_SPOTS,
+    SQ_PATTERN_OTHER_SIMPLE,
+    SQ_PATTERN_COMPLEX,
+    SQ_PATTERN_COUNT
+} SqPatternType;
+
+typedef struct SqParams {
+    /* pattern type and background (§4.1, §4.2) */
+    int Pattern_Type; /* SqPatternType */
+    double Background_Color[4];
+    double Color_NoiseIntensity;
+
+    /* transversal stripes (§4.2.1) */
+    double Transversal_Color[4][4];
+    double Transversal_BeginEnd[4][2];
+
+    /* longitudinal stripes (§4.2.2) */
+    int Longitudinal_NumberOfStripes;
+    double Longitudinal_StripesWidth;
+    double Longitudinal_StripesColor[4];
+    double Longitudinal_Pinch;
+
+    /* spots (§4.2.3) */
+    double Spots_Scale;
+    double Spots_ScaleVariation;
+    double Spots_PositionRandom[2];
+    double Spots_Offset;
+    double Spots_Color[4];
+    double Spots_Interstice[2];
+    double Spots_IntersticeRandom[2];
+    double Spots_Rotation;
+    double Spots_RotationRandom;
+    double Spots_Tiling;
+
+    /* other simple pattern: colouring of the automaton image (Appendix D.11) */
+    double CustomPattern_Color_Inside[4];
+    double CustomPattern_Color_Outside[4];
+    double CustomPattern_LevelInLow;
+    double CustomPattern_LevelInHigh;
+    double CustomPattern_LevelInMid;
+
+    /* cellular automaton (§4.2.4, Appendix E) */
+    SqCa CA_Descriptor;
+    double CA_CircleDiameter;
+
+    /* pattern post-process (§4.2.4, §4.2.7) */
+    int Pattern_RotatePattern90Degrees;
+    double Pattern_BlurAmount;
+    double Pattern_Contrast;
+    double Pattern_Warp_Small;
+    double Pattern_Warp_Large;
+
+    /* outline (§4.2.6) */
+    int Has_Outline;
+    double Outline_Color[4];
+    double Outline_Edge_Width;
+    double Outline_Blur;
+    double Outline_Edge_Roundness;
+    double Outline_Distortion_Intensity;
+
+    /* single scale shape (§4.3.1) */
+    double ScaleShape_Contrast;
+    double ScaleShape_Blur;
+    double ScaleShape_Gradient;
+    double ScaleShape_Ridge;
+    int ScaleShape_IsKeeled;
+    double ScaleShape_KeelThickness;
+    double ScaleShape_KeelDistortion;
+
+    /* scales tiling and ventral scales (§4.3.2, §4.3.3) */
+    double Scales_DetailNormal;
+    int Scales_XAmount;
+    int Scales_YAmount;
+    double Scales_ScaleSize;
+    double Scales_ScaleSizeXY[2];
+    double Scales_Expansion;
+    double Scales_SizeRandom;
+    double Scales_PositionRandom[2];
+    double Scales_RotationRandom;
+    double Scales_BellyScalesPct;
+    double Scales_BellyWarpIntensity;
+
+    /* roughness (§4.4) and normal map (§5) */
+    double Scales_RoughnessMin;
+    double Scales_RoughnessMax;
+    double Normal_Intensity;
+
+    /* squama */
+    int Seed;
+} SqParams;
+
+typedef enum SqParamType {
+    SQ_PT_FLOAT,  /* double */
+    SQ_PT_INT,    /* int */
+    SQ_PT_BOOL,   /* int, 0 or 1; JSON true/false */
+    SQ_PT_ENUM,   /* int index into `choices`; JSON string */
+    SQ_PT_VEC2,   /* double[2]; JSON [x, y] */
+    SQ_PT_COLOR,  /* double[4] RGBA; JSON [r, g, b, a] (or [r, g, b], a = 1) */
+    SQ_PT_CA      /* SqCa; JSON descriptor text or object */
+} SqParamType;
+
+/* Where a parameter comes from. */
+typedef enum SqParamOrigin {
+    SQ_ORIGIN_THESIS,     /* named and described in the thesis' text (Chapters 4-5) */
+    SQ_ORIGIN_THESIS_D11, /* one of the 59, known only from a label in Appendix D.11 */
+    SQ_ORIGIN_SQUAMA      /* added by squama */
+} SqParamOrigin;
+
+enum {
+    SQ_PF_LOG = 1u << 0,      /* the optimizer searches it on a log scale */
+    SQ_PF_NOSEARCH = 1u << 1  /* the optimizer never changes it */
+};
+
+typedef struct SqParamSpec {
+    const char *name;      /* preset key, thesis spelling */
+    SqParamType type;
+    size_t offset;         /* offsetof(SqParams, field) */
+    const char *group;
+    double def[4];         /* default (components as the type has them; enum: index) */
+    double min, max;       /* hard range, per component */
+    double smin, smax;     /* suggested range (thesis where it gives one), per component */
+    const char *const *choices; /* SQ_PT_ENUM: NULL-terminated names */
+    const char *def_text;  /* SQ_PT_CA: default descriptor text */
+    SqParamOrigin origin;
+    const char *ref;       /* thesis section, or Appendix D.11 label */
+    unsigned flags;        /* SQ_PF_* */
+    const char *help;      /* one line */
+} SqParamSpec;
+
+/* The table, in preset order, and its length. */
+const SqParamSpec *sq_params_table(size_t *count);
+
+/* The entry for a name (exact, case-sensitive), or NULL. */
+const SqParamSpec *sq_params_find(const char *name);
+
+/* The table entry whose name is closest to `name` (edit distance, case-insensitive);
+ * never NULL. Used for "did you mean" hints. */
+const SqParamSpec *sq_params_closest(const char *name);
+
+/* Number of components of a type: 1, 2 (vec2) or 4 (colour); 0 for SQ_PT_CA. */
+int sq_param_components(SqParamType type);
+
+/* Human name of a type ("float", "int", "bool", "enum", "vec2", "color", "ca"). */
+const char *sq_param_type_name(SqParamType type);
+
+/* Pointer to the field of a spec inside p. */
+void *sq_param_ptr(SqParams *p, const SqParamSpec *spec);
+const void *sq_param_cptr(const SqParams *p, const SqParamSpec *spec);
+
+/* Every parameter at its default. */
+void sq_params_default(SqParams *p);
+
+/* Checks every field against its hard range (and enum/CA validity, finite numbers). */
+SqStatus sq_params_validate(const SqParams *p, SqError *err);
+
+/* Field-by-field equality of every table entry (exact for numbers). */
+int sq_params_equal(const SqParams *a, const SqParams *b);
+
+/* Writes a parameter's value as text ("0.5", "[0.1, 0.2]", "spots", "true", CA descriptor
+ * on one line with " / " between items); returns the length needed, like snprintf.
+ * Numbers use %.*g with `digits` significant digits, or with digits <= 0 the shortest
+ * text that reads back exactly. */
+size_t sq_param_format(const SqParams *p, const SqParamSpec *s, int digits, char *buf,
+                       size_t size);
+
+/* Pattern type names, as used in presets ("none", "longitudinal", ...). */
+const char *sq_pattern_type_name(int type);
+extern const char *const sq_pattern_type_names[];
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SQUAMA_PARAMS_H */

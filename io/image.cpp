@@ -1,0 +1,233 @@
+// Image read/write through OpenImageIO: the one C++ file of io/. Every exception stops
+// at the extern "C" boundary and becomes an SqStatus.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "io_internal.h"
+#include "squama/io.h"
+
+using namespace OIIO;
+
+namespace {
+
+std::string lower(std::string s)
+{
+    for (auto &c : s)
+        c = (char)std::tolower((unsigned char)c);
+    return s;
+}
+
+std::string first_line(std::string s)
+{
+    auto nl = s.find('\n');
+    if (nl != std::string::npos)
+        s.resize(nl);
+    return s.empty() ? std::string("unknown reason") : s;
+}
+
+SqStatus read_image(const char *path, const SqReadOptions *opt, SqImage *rgba, SqImage *mask,
+                    SqError *err)
+{
+    long long max_pixels = opt && opt->max_pixels > 0 ? opt->max_pixels
+                                                      : (long long)SQ_IO_DEFAULT_MAX_PIXELS;
+    if (access(path, R_OK) != 0)
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot open image: %s", std::strerror(errno));
+
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1); // keep colours as stored beside alpha
+    auto in = ImageInput::open(path, &config);
+    if (!in)
+        return sq_error_set(err, SQ_ERR_PARSE, path, "not a readable image: %s",
+                            first_line(OIIO::geterror()).c_str());
+    const ImageSpec &spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1)
+        return sq_error_set(err, SQ_ERR_UNSUPPORTED, path,
+                            "unsupported image geometry %dx%dx%d with %d channels", spec.width,
+                            spec.height, spec.depth, spec.nchannels);
+    long long npix = (long long)spec.width * spec.height;
+    if (npix > max_pixels)
+        return sq_error_set(err, SQ_ERR_LIMIT, path,
+                            "image is %dx%d (%.1f megapixels), over the limit of %.1f megapixels",
+                            spec.width, spec.height, npix / 1e6, max_pixels / 1e6);
+
+    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+    std::vector<float> buf((size_t)npix * (size_t)nch);
+    if (!in->read_image(0, 0, 0, nch, TypeDesc::FLOAT, buf.data()) || in->has_error()) {
+        std::string msg = first_line(in->geterror());
+        return sq_error_set(err, SQ_ERR_PARSE, path, "corrupt or truncated image: %s",
+                            msg.c_str());
+    }
+    int alpha = spec.alpha_channel;
+    if (alpha < 0 && (nch == 2 || nch == 4))
+        alpha = nch - 1;
+    const bool linear = lower(spec.get_string_attribute("oiio:ColorSpace")).find("linear") !=
+                        std::string::npos;
+    const int orientation = spec.get_int_attribute("Orientation", 1);
+    in->close();
+
+    // Expand to RGBA (+ alpha), then let OpenImageIO apply the EXIF orientation.
+    ImageSpec ospec(w, h, 4, TypeDesc::FLOAT);
+    ospec.attribute("Orientation", orientation);
+    ImageBuf src(ospec);
+    std::vector<float> px((size_t)npix * 4);
+    for (size_t i = 0; i < (size_t)npix; i++) {
+        const float *s = &buf[i * (size_t)nch];
+        float *d = &px[i * 4];
+        int colour = nch >= 3 ? 3 : 1;
+        for (int c = 0; c < 3; c++)
+            d[c] = colour == 3 ? s[c] : s[0];
+        d[3] = alpha >= 0 ? s[alpha] : 1.0f;
+    }
+    buf.clear();
+    buf.shrink_to_fit();
+    src.set_pixels(src.roi(), TypeDesc::FLOAT, px.data());
+    ImageBuf oriented = ImageBufAlgo::reorient(src);
+    if (oriented.has_error())
+        return sq_error_set(err, SQ_ERR_INTERNAL, path, "cannot orient image: %s",
+                            first_line(oriented.geterror()).c_str());
+    const ROI roi = oriented.roi();
+    const int ow = roi.width(), oh = roi.height();
+
+    if (sq_image_alloc(rgba, ow, oh, 4, linear ? SQ_SPACE_LINEAR : SQ_SPACE_SRGB) != 0)
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for a %dx%d image", ow, oh);
+    if (!oriented.get_pixels(roi, TypeDesc::FLOAT, rgba->px)) {
+        sq_image_free(rgba);
+        return sq_error_set(err, SQ_ERR_INTERNAL, path, "cannot copy pixels");
+    }
+    if (mask) {
+        std::memset(mask, 0, sizeof *mask);
+        if (alpha >= 0) {
+            if (sq_image_alloc(mask, ow, oh, 1, SQ_SPACE_DATA) != 0) {
+                sq_image_free(rgba);
+                return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for a mask");
+            }
+            for (size_t i = 0; i < (size_t)ow * oh; i++)
+                mask->px[i] = rgba->px[i * 4 + 3] >= 0.5f ? 1.0f : 0.0f;
+        }
+    }
+    return SQ_OK;
+}
+
+SqImageFormat format_from_name(const char *path)
+{
+    std::string p = lower(path);
+    auto ends = [&](const char *e) {
+        size_t n = std::strlen(e);
+        return p.size() >= n && p.compare(p.size() - n, n, e) == 0;
+    };
+    if (ends(".png"))
+        return SQ_FORMAT_PNG;
+    if (ends(".exr"))
+        return SQ_FORMAT_EXR;
+    return SQ_FORMAT_AUTO;
+}
+
+SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
+                     SqError *err)
+{
+    SqWriteOptions o = opt ? *opt : SqWriteOptions{SQ_FORMAT_AUTO, 0};
+    if (o.format == SQ_FORMAT_AUTO)
+        o.format = format_from_name(path);
+    if (o.format == SQ_FORMAT_AUTO)
+        return sq_error_set(err, SQ_ERR_UNSUPPORTED, path,
+                            "cannot tell the image format from the name: use .png or .exr");
+    if (!img || !img->px || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
+        img->channels > 4)
+        return sq_error_set(err, SQ_ERR_INVALID, path, "no image to write");
+    const bool png = o.format == SQ_FORMAT_PNG;
+    if (o.bits == 0)
+        o.bits = png ? 8 : 16;
+    if (png ? (o.bits != 8 && o.bits != 16) : (o.bits != 16 && o.bits != 32))
+        return sq_error_set(err, SQ_ERR_INVALID, path,
+                            "%d-bit %s is not supported (PNG: 8 or 16, EXR: 16 or 32)", o.bits,
+                            png ? "PNG" : "EXR");
+
+    const int w = img->width, h = img->height, nch = img->channels;
+    const int colour = nch >= 3 ? 3 : (nch == 2 ? 1 : nch); // channels that carry colour
+    std::vector<float> px((size_t)w * h * nch);
+    for (size_t i = 0; i < px.size(); i++) {
+        float v = img->px[i];
+        bool is_colour = (int)(i % (size_t)nch) < colour && img->space != SQ_SPACE_DATA;
+        if (is_colour && png && img->space == SQ_SPACE_LINEAR)
+            v = sq_io_linear_to_srgb(std::max(v, 0.0f));
+        else if (is_colour && !png && img->space == SQ_SPACE_SRGB)
+            v = sq_io_srgb_to_linear(v);
+        if (png)
+            v = std::min(1.0f, std::max(0.0f, v)); // NaN becomes 0
+        px[i] = v;
+    }
+
+    TypeDesc type = png ? (o.bits == 16 ? TypeDesc::UINT16 : TypeDesc::UINT8)
+                        : (o.bits == 32 ? TypeDesc::FLOAT : TypeDesc::HALF);
+    ImageSpec spec(w, h, nch, type);
+    if (nch == 2 || nch == 4) {
+        spec.alpha_channel = nch - 1;
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
+    if (img->space != SQ_SPACE_DATA)
+        spec.attribute("oiio:ColorSpace", png ? "sRGB" : "Linear");
+    if (!png)
+        spec.attribute("compression", "zip");
+
+    char tmp[4096];
+    if (sq__io_make_temp(path, tmp, sizeof tmp) != 0)
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot create a file here: %s",
+                            std::strerror(errno));
+    auto out = ImageOutput::create(png ? "png" : "openexr");
+    bool ok = out && out->open(tmp, spec) &&
+              out->write_image(TypeDesc::FLOAT, px.data()) && out->close();
+    if (!ok) {
+        std::string msg = first_line(out ? out->geterror() : OIIO::geterror());
+        unlink(tmp);
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: %s", msg.c_str());
+    }
+    return sq__io_commit(tmp, path, err);
+}
+
+} // namespace
+
+extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt, SqImage *rgba,
+                                     SqImage *mask, SqError *err)
+{
+    std::memset(rgba, 0, sizeof *rgba);
+    if (mask)
+        std::memset(mask, 0, sizeof *mask);
+    try {
+        return read_image(path, opt, rgba, mask, err);
+    } catch (const std::bad_alloc &) {
+        sq_image_free(rgba);
+        sq_image_free(mask);
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory reading the image");
+    } catch (const std::exception &e) {
+        sq_image_free(rgba);
+        sq_image_free(mask);
+        return sq_error_set(err, SQ_ERR_PARSE, path, "cannot read image: %s", e.what());
+    } catch (...) {
+        sq_image_free(rgba);
+        sq_image_free(mask);
+        return sq_error_set(err, SQ_ERR_INTERNAL, path, "cannot read image");
+    }
+}
+
+extern "C" SqStatus sq_io_write_image(const char *path, const SqImage *img,
+                                      const SqWriteOptions *opt, SqError *err)
+{
+    try {
+        return write_image(path, img, opt, err);
+    } catch (const std::bad_alloc &) {
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory writing the image");
+    } catch (const std::exception &e) {
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: %s", e.what());
+    } catch (...) {
+        return sq_error_set(err, SQ_ERR_INTERNAL, path, "cannot write image");
+    }
+}

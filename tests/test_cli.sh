@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The squama program: help, version, usage errors (exit 2 with a hint), failures (exit 1
+# with "squama: <what> (<where>)"), and the params/presets commands end to end.
+set -u
+SQ=$1 SRC=$2 TMP=$3
+rm -rf "$TMP" && mkdir -p "$TMP"
+fails=0
+out="$TMP/out" err="$TMP/err"
+
+run() { "$SQ" "$@" >"$out" 2>"$err"; echo $? >"$TMP/rc"; }
+check() { # description, expected rc, [grep pattern on stdout|stderr] ...
+  local what=$1 want=$2; shift 2
+  local rc; rc=$(cat "$TMP/rc")
+  if [ "$rc" != "$want" ]; then
+    echo "FAIL: $what: exit $rc, want $want"; cat "$err"; fails=$((fails + 1)); return
+  fi
+  while [ $# -gt 0 ]; do
+    if ! grep -qF -- "$2" "$TMP/$1"; then
+      echo "FAIL: $what: $1 lacks '$2'"; echo "--- stdout"; cat "$out"; echo "--- stderr"; cat "$err"
+      fails=$((fails + 1))
+    fi
+    shift 2
+  done
+  echo "ok: $what"
+}
+
+run --version;            check "version" 0 out "squama 0."
+run --help;               check "help" 0 out "usage: squama <command>" out "params" out "presets"
+run;                      check "no command" 2 err "squama: no command given (see 'squama --help')"
+run frobnicate;           check "unknown command" 2 err "unknown command 'frobnicate' (see 'squama --help')"
+run --frob;               check "unknown option" 2 err "unknown option '--frob'"
+for c in params presets; do
+  run $c --help;          check "$c --help" 0 out "usage: squama $c"
+done
+run params --bogus;       check "params bad option" 2 err "unknown option '--bogus' (see 'squama params --help')"
+run params --json --markdown; check "params exclusive" 2 err "exclude each other"
+
+run params;               check "params table" 0 out "Spots_Tiling" out "0.05..32" out "0.1..5" out "Transversal_BeginEnd4"
+run params spots;         check "params filter" 0 out "Spots_Interstice"
+grep -q "Scales_XAmount" "$out" && { echo "FAIL: filter kept Scales_XAmount"; fails=$((fails + 1)); }
+run params --json
+check "params --json" 0 out '"name": "Pattern_Type"'
+if command -v python3 >/dev/null; then
+  python3 - "$out" <<'PY' || { echo "FAIL: params --json content"; fails=$((fails + 1)); }
+import json, sys
+rows = json.load(open(sys.argv[1]))
+names = {r["name"] for r in rows}
+assert len(rows) == len(names) >= 65, len(rows)
+thesis = [r for r in rows if r["origin"] in ("thesis", "thesis-d11") and not r["name"].startswith("CA_")]
+assert len(thesis) == 59, len(thesis)
+tiling = next(r for r in rows if r["name"] == "Spots_Tiling")
+assert tiling["min"] == 0.05 and tiling["suggested_max"] == 5 and tiling["default"] == "1"
+PY
+fi
+
+run presets;              check "presets without subcommand" 2 err "say what to do"
+run presets list;         check "presets list" 0 out "thesis/table_4_1_transversal.json" out "thesis/ca/vipera_berus.ca" out "transversal"
+run presets list --json;  check "presets list --json" 0 out '"kind": "ca"'
+run presets list /nonexistent; check "presets list missing dir" 1 err "squama: no presets folder here (/nonexistent)"
+run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca
+check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal"
+run presets validate;     check "validate nothing" 2 err "validate needs at least one FILE"
+
+printf '{"format": "squama-preset/1",\n "Spots_Tilling": 2}\n' >"$TMP/typo.json"
+run presets validate "$TMP/typo.json"
+check "unknown key" 1 err "squama: unknown key \"Spots_Tilling\" (did you mean \"Spots_Tiling\"?) ($TMP/typo.json:2)"
+printf '{"format": "squama-preset/1", "Longitudinal_NumberOfStripes": 99}\n' >"$TMP/range.json"
+run presets validate "$TMP/range.json" "$TMP/typo.json" "$SRC/presets/thesis/table_4_3_longitudinal.json"
+check "out of range" 1 err "\"Longitudinal_NumberOfStripes\" is 99, outside its range [1, 64]; suggested 1 to 10" err "2 of 3 files failed validation" out "ok  $SRC/presets/thesis/table_4_3_longitudinal.json"
+printf '0 1 1 0\nrectangular\n0\n6\n1110 1\n110 x\n' >"$TMP/bad.ca"
+run presets validate "$TMP/bad.ca"
+check "bad CA descriptor" 1 err "rectangular rules have 4 bits, \"110\" has 3 ($TMP/bad.ca:6)"
+run presets validate "$TMP/none.json"; check "missing preset" 1 err "cannot open preset: No such file or directory ($TMP/none.json)"
+
+run presets format "$SRC/presets/thesis/table_4_3_longitudinal.json" -o "$TMP/fmt.json"
+check "format -o" 0
+run presets validate "$TMP/fmt.json"; check "formatted preset validates" 0
+grep -q '"Spots_Tiling": 1' "$TMP/fmt.json" || { echo "FAIL: format lacks defaults"; fails=$((fails + 1)); }
+run presets format "$TMP/fmt.json"; check "format to stdout" 0 out '"Longitudinal_Pinch": 2.6'
+cmp -s "$out" "$TMP/fmt.json" || { echo "FAIL: format is not idempotent"; fails=$((fails + 1)); }
+run presets format "$TMP/typo.json" -o "$TMP/never.json"; check "format refuses bad input" 1
+[ -e "$TMP/never.json" ] && { echo "FAIL: a failed format wrote a file"; fails=$((fails + 1)); }
+run presets format "$TMP/fmt.json" -o /nonexistent/x.json; check "format unwritable" 1 err "(/nonexistent/x.json)"
+run presets format a b;   check "format two files" 2 err "format takes exactly one FILE"
+run presets format x -o;  check "format -o without file" 2 err "-o needs a file name"
+run presets frob;         check "presets unknown subcommand" 2 err "unknown subcommand 'frob'"
+SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
+check "SQUAMA_PRESETS" 0 out "daboia_russelii.ca"
+
+[ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

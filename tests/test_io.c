@@ -1,0 +1,335 @@
+/* Image and file I/O: round trips per format, orientation, masks, limits, and every
+ * way a file can be bad. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <math.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "sq_test.h"
+#include "squama/io.h"
+
+static void make_gradient(SqImage *img, int w, int h, int ch, SqColorSpace space)
+{
+    assert_int_equal(sq_image_alloc(img, w, h, ch, space), 0);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < ch; c++)
+                sq_image_at(img, x, y)[c] = (float)((x * 7 + y * 13 + c * 29) % 256) / 255.0f;
+}
+
+static float max_diff(const SqImage *a, const SqImage *b, int channels)
+{
+    float m = 0;
+    for (int y = 0; y < a->height; y++)
+        for (int x = 0; x < a->width; x++)
+            for (int c = 0; c < channels; c++) {
+                float d = fabsf(sq_image_at(a, x, y)[c] - sq_image_at(b, x, y)[c]);
+                if (d > m)
+                    m = d;
+            }
+    return m;
+}
+
+/* No temporary files are left beside the outputs. */
+static void assert_no_temp_files(void)
+{
+    DIR *d = opendir(SQUAMA_TEST_TMP);
+    assert_non_null(d);
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strstr(e->d_name, ".tmp-"))
+            fail_msg("temporary file left behind: %s", e->d_name);
+    closedir(d);
+}
+
+static void png8_round_trip_rgba(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a, b, mask;
+    SqError err;
+    make_gradient(&a, 31, 17, 4, SQ_SPACE_SRGB);
+    for (int y = 0; y < 17; y++)
+        for (int x = 0; x < 31; x++)
+            sq_image_at(&a, x, y)[3] = x < 10 ? 0.0f : 1.0f;
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "rt8.png"), &a, NULL, &err),
+                     SQ_OK);
+    assert_int_equal(sq_io_read_image(path, NULL, &b, &mask, &err), SQ_OK);
+    assert_int_equal(b.width, 31);
+    assert_int_equal(b.height, 17);
+    assert_int_equal(b.channels, 4);
+    assert_int_equal(b.space, SQ_SPACE_SRGB);
+    /* colours survive beside transparent alpha (no premultiplication) */
+    assert_true(max_diff(&a, &b, 4) <= 0.5f / 255.0f + 1e-6f);
+    assert_non_null(mask.px);
+    assert_int_equal(mask.channels, 1);
+    assert_true(mask.px[9] == 0.0f && mask.px[10] == 1.0f);
+    sq_image_free(&a);
+    sq_image_free(&b);
+    sq_image_free(&mask);
+    assert_no_temp_files();
+}
+
+static void png16_round_trip_grey(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a, b, mask;
+    SqError err;
+    make_gradient(&a, 20, 9, 1, SQ_SPACE_DATA);
+    SqWriteOptions o = {SQ_FORMAT_PNG, 16};
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "rt16.png"), &a, &o, &err),
+                     SQ_OK);
+    assert_int_equal(sq_io_read_image(path, NULL, &b, &mask, &err), SQ_OK);
+    assert_null(mask.px); /* no alpha, no mask */
+    assert_int_equal(b.channels, 4);
+    for (int i = 0; i < 20 * 9; i++) {
+        assert_true(fabsf(b.px[i * 4] - a.px[i]) <= 0.5f / 65535.0f + 1e-6f);
+        assert_true(b.px[i * 4 + 1] == b.px[i * 4] && b.px[i * 4 + 2] == b.px[i * 4]);
+        assert_true(b.px[i * 4 + 3] == 1.0f);
+    }
+    sq_image_free(&a);
+    sq_image_free(&b);
+}
+
+static void exr_data_exact_and_colour_linearised(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a, b;
+    SqError err;
+    make_gradient(&a, 16, 8, 1, SQ_SPACE_DATA);
+    a.px[5] = 3.75f;  /* EXR keeps values outside [0,1] */
+    a.px[6] = -0.5f;
+    SqWriteOptions o = {SQ_FORMAT_EXR, 32};
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "h.exr"), &a, &o, &err),
+                     SQ_OK);
+    assert_int_equal(sq_io_read_image(path, NULL, &b, NULL, &err), SQ_OK);
+    for (int i = 0; i < 16 * 8; i++)
+        assert_true(b.px[i * 4] == a.px[i]);
+    sq_image_free(&a);
+    sq_image_free(&b);
+
+    /* sRGB colour is stored linear in EXR (half floats) and read back as linear */
+    make_gradient(&a, 16, 8, 3, SQ_SPACE_SRGB);
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "c.exr"), &a, NULL, &err),
+                     SQ_OK);
+    assert_int_equal(sq_io_read_image(path, NULL, &b, NULL, &err), SQ_OK);
+    assert_int_equal(b.space, SQ_SPACE_LINEAR);
+    for (int i = 0; i < 16 * 8; i++)
+        for (int c = 0; c < 3; c++) {
+            float want = sq_io_srgb_to_linear(a.px[i * 3 + c]);
+            assert_true(fabsf(b.px[i * 4 + c] - want) <= 1e-3f * (1 + want));
+        }
+    sq_image_free(&a);
+    sq_image_free(&b);
+}
+
+static void srgb_transfer_functions(void **state)
+{
+    (void)state;
+    assert_true(sq_io_srgb_to_linear(0) == 0);
+    assert_true(fabsf(sq_io_srgb_to_linear(1) - 1) < 1e-6f);
+    assert_true(fabsf(sq_io_srgb_to_linear(0.5f) - 0.214041f) < 1e-5f);
+    for (int i = 0; i <= 100; i++) {
+        float v = (float)i / 100.0f;
+        assert_true(fabsf(sq_io_linear_to_srgb(sq_io_srgb_to_linear(v)) - v) < 1e-5f);
+    }
+}
+
+/* EXIF orientation 6 (stored 8x4, left red, right blue) displays 4x8, red on top. */
+static void exif_orientation_applied(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage img;
+    SqError err;
+    assert_int_equal(sq_io_read_image(src_path(path, sizeof path, "tests/data/orient6.jpg"), NULL,
+                                      &img, NULL, &err),
+                     SQ_OK);
+    assert_int_equal(img.width, 4);
+    assert_int_equal(img.height, 8);
+    const float *top = sq_image_at(&img, 2, 1), *bottom = sq_image_at(&img, 2, 6);
+    assert_true(top[0] > 0.8f && top[2] < 0.2f);
+    assert_true(bottom[2] > 0.8f && bottom[0] < 0.2f);
+    sq_image_free(&img);
+}
+
+static void tiff_reads(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage img;
+    SqError err;
+    assert_int_equal(sq_io_read_image(src_path(path, sizeof path, "tests/data/gradient16.tif"),
+                                      NULL, &img, NULL, &err),
+                     SQ_OK);
+    assert_int_equal(img.width, 6);
+    assert_int_equal(img.height, 5);
+    assert_true(fabsf(sq_image_at(&img, 0, 0)[0] - 0.2f) < 0.01f);
+    sq_image_free(&img);
+}
+
+static void pixel_limit_checked_before_decoding(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a, b;
+    SqError err;
+    make_gradient(&a, 100, 60, 3, SQ_SPACE_SRGB);
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "big.png"), &a, NULL, &err),
+                     SQ_OK);
+    SqReadOptions o = {.max_pixels = 5000};
+    assert_int_equal(sq_io_read_image(path, &o, &b, NULL, &err), SQ_ERR_LIMIT);
+    assert_null(b.px);
+    assert_contains(err.what, "100x60");
+    assert_contains(err.what, "over the limit");
+    assert_string_equal(err.where, path);
+    o.max_pixels = 6000;
+    assert_int_equal(sq_io_read_image(path, &o, &b, NULL, &err), SQ_OK);
+    sq_image_free(&a);
+    sq_image_free(&b);
+}
+
+static void write_bytes(const char *path, const void *data, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, n, f), n);
+    fclose(f);
+}
+
+/* Writes a valid file in `ext` format (through our writer, or the JPEG fixture), then
+ * keeps only `keep` of its bytes. */
+static void truncated_copy(const char *src, const char *dst, double keep)
+{
+    char *data;
+    size_t n;
+    SqError err;
+    assert_int_equal(sq_io_read_file(src, 1 << 24, &data, &n, &err), SQ_OK);
+    write_bytes(dst, data, (size_t)(n * keep));
+    free(data);
+}
+
+static void corrupt_files_refused_cleanly(void **state)
+{
+    (void)state;
+    char good[1024], bad[1024], jpg[1024];
+    SqImage a, b;
+    SqError err;
+    make_gradient(&a, 64, 64, 3, SQ_SPACE_SRGB);
+    assert_int_equal(sq_io_write_image(tmp_path(good, sizeof good, "good.png"), &a, NULL, &err),
+                     SQ_OK);
+    sq_image_free(&a);
+
+    truncated_copy(good, tmp_path(bad, sizeof bad, "trunc.png"), 0.5);
+    assert_int_equal(sq_io_read_image(bad, NULL, &b, NULL, &err), SQ_ERR_PARSE);
+    assert_null(b.px);
+    assert_string_equal(err.where, bad);
+
+    truncated_copy(good, tmp_path(bad, sizeof bad, "header.png"), 0.05);
+    assert_true(sq_io_read_image(bad, NULL, &b, NULL, &err) < 0);
+    assert_null(b.px);
+
+    src_path(jpg, sizeof jpg, "tests/data/orient6.jpg");
+    truncated_copy(jpg, tmp_path(bad, sizeof bad, "trunc.jpg"), 0.6);
+    assert_true(sq_io_read_image(bad, NULL, &b, NULL, &err) < 0);
+    assert_null(b.px);
+
+    static const char garbage[] = "this is not an image at all, just some text\n";
+    write_bytes(tmp_path(bad, sizeof bad, "garbage.png"), garbage, sizeof garbage);
+    assert_int_equal(sq_io_read_image(bad, NULL, &b, NULL, &err), SQ_ERR_PARSE);
+    assert_contains(err.what, "not a readable image");
+
+    write_bytes(tmp_path(bad, sizeof bad, "empty.jpg"), "", 0);
+    assert_true(sq_io_read_image(bad, NULL, &b, NULL, &err) < 0);
+
+    assert_int_equal(sq_io_read_image("/nonexistent/photo.jpg", NULL, &b, NULL, &err),
+                     SQ_ERR_IO);
+    assert_contains(err.what, "No such file");
+    assert_true(sq_io_read_image(SQUAMA_TEST_TMP, NULL, &b, NULL, &err) < 0);
+}
+
+static void atomic_writes_and_write_errors(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a;
+    SqError err;
+    make_gradient(&a, 8, 8, 3, SQ_SPACE_SRGB);
+
+    assert_int_equal(sq_io_write_image("/nonexistent/dir/x.png", &a, NULL, &err), SQ_ERR_IO);
+    assert_string_equal(err.where, "/nonexistent/dir/x.png");
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "x.tga"), &a, NULL, &err),
+                     SQ_ERR_UNSUPPORTED);
+    SqWriteOptions o = {SQ_FORMAT_PNG, 12};
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "x.png"), &a, &o, &err),
+                     SQ_ERR_INVALID);
+    assert_contains(err.what, "12-bit PNG");
+    SqImage empty = {0};
+    assert_int_equal(sq_io_write_image(path, &empty, NULL, &err), SQ_ERR_INVALID);
+
+    /* replacing an existing file */
+    write_bytes(tmp_path(path, sizeof path, "replace.png"), "old", 3);
+    assert_int_equal(sq_io_write_image(path, &a, NULL, &err), SQ_OK);
+    SqImage b;
+    assert_int_equal(sq_io_read_image(path, NULL, &b, NULL, &err), SQ_OK);
+    sq_image_free(&b);
+    sq_image_free(&a);
+
+    /* text files */
+    assert_int_equal(sq_io_write_file(tmp_path(path, sizeof path, "t.txt"), "hello\n", 6, &err),
+                     SQ_OK);
+    char *data;
+    size_t n;
+    assert_int_equal(sq_io_read_file(path, 100, &data, &n, &err), SQ_OK);
+    assert_int_equal(n, 6);
+    assert_string_equal(data, "hello\n");
+    free(data);
+    assert_int_equal(sq_io_read_file(path, 3, &data, &n, &err), SQ_ERR_LIMIT);
+    assert_null(data);
+    assert_int_equal(sq_io_write_file("/nonexistent/t.txt", "x", 1, &err), SQ_ERR_IO);
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    assert_true((st.st_mode & 0444) == 0444 || (st.st_mode & 0400)); /* readable */
+    assert_no_temp_files();
+}
+
+/* Real photos from ../shared/photos decode when the folder is there. */
+static void real_photos_decode(void **state)
+{
+    (void)state;
+    char path[2048];
+    snprintf(path, sizeof path, "%s/photos/bitis_arietans__jv0206.jpg", SQUAMA_SHARED_DIR);
+    if (access(path, R_OK) != 0)
+        skip();
+    SqImage img;
+    SqError err;
+    assert_int_equal(sq_io_read_image(path, NULL, &img, NULL, &err), SQ_OK);
+    assert_true(img.width > 100 && img.height > 100);
+    double mean = 0;
+    for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+        mean += img.px[i * 4 + 1];
+    mean /= (double)img.width * img.height;
+    assert_true(mean > 0.05 && mean < 0.95);
+    sq_image_free(&img);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(png8_round_trip_rgba),
+        cmocka_unit_test(png16_round_trip_grey),
+        cmocka_unit_test(exr_data_exact_and_colour_linearised),
+        cmocka_unit_test(srgb_transfer_functions),
+        cmocka_unit_test(exif_orientation_applied),
+        cmocka_unit_test(tiff_reads),
+        cmocka_unit_test(pixel_limit_checked_before_decoding),
+        cmocka_unit_test(corrupt_files_refused_cleanly),
+        cmocka_unit_test(atomic_writes_and_write_errors),
+        cmocka_unit_test(real_photos_decode),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
