@@ -9,6 +9,7 @@ static const CliCommand commands[] = {
     {"params", "list the generator's parameters (table, --json or --markdown)", cmd_params},
     {"presets", "list the shipped presets; validate preset and CA descriptor files",
      cmd_presets},
+    {"render", "render a preset's basecolor, height, roughness and normal maps", cmd_render},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

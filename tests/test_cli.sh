@@ -87,4 +87,29 @@ run presets frob;         check "presets unknown subcommand" 2 err "unknown subc
 SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
 check "SQUAMA_PRESETS" 0 out "daboia_russelii.ca"
 
+# render
+run render --help;        check "render --help" 0 out "usage: squama render"
+run render "$SRC/presets/thesis/table_4_4_spots.json"; check "render without -o" 2 err "say where the maps go with -o DIR"
+run render -o "$TMP/r";   check "render without preset" 2 err "give a PRESET or --ca FILE"
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r" --size 5; check "render size too small" 2 err "--size must be N or WxH"
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r" --format tga; check "render bad format" 2 err "--format must be png or exr"
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r" --format exr --bits 8; check "render bits vs format" 2 err "does not fit"
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/deep" --size 64x48
+check "render png" 0 out "wrote $TMP/r/deep/basecolor.png" out "64x48 spots pattern"
+for m in basecolor height roughness normal; do
+  [ -s "$TMP/r/deep/$m.png" ] || { echo "FAIL: $m.png missing"; fails=$((fails + 1)); }
+done
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/exr" --size 32 --format exr -q
+check "render exr" 0
+[ -s "$TMP/r/exr/height.exr" ] || { echo "FAIL: height.exr missing"; fails=$((fails + 1)); }
+run render --ca "$SRC/presets/thesis/ca/crotalus_viridis.ca" -o "$TMP/r/ca" --size 32
+check "render --ca" 0 out "other_simple pattern"
+run render --ca "$TMP/bad.ca" -o "$TMP/r/ca2" --size 32
+check "render bad --ca" 1 err "($TMP/bad.ca:6)"
+printf '{"format": "squama-preset/1", "Pattern_Type": "complex"}\n' >"$TMP/complex.json"
+run render "$TMP/complex.json" -o "$TMP/r/cx" --size 32
+check "render complex" 1 err "needs reaction-diffusion"
+[ -e "$TMP/r/cx/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
+run render "$TMP/typo.json" -o "$TMP/r/t";  check "render bad preset" 1 err "unknown key"
+
 [ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

@@ -1,0 +1,288 @@
+/* Internal interfaces of the generator's stages (not public API; tests may use them). */
+#ifndef SQUAMA_GEN_INTERNAL_H
+#define SQUAMA_GEN_INTERNAL_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "squama/generator.h"
+
+/* ---- deterministic randomness: a counter-based hash, independent of thread order ---- */
+
+static inline uint64_t sq__mix(uint64_t z)
+{
+    z += 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* A hash of (seed, stream, index). */
+static inline uint64_t sq__hash(uint64_t seed, uint64_t stream, uint64_t index)
+{
+    return sq__mix(seed ^ sq__mix(stream * 0x632BE59BD9B4E019ull ^ sq__mix(index)));
+}
+
+/* Uniform in [0, 1). */
+static inline double sq__rand01(uint64_t seed, uint64_t stream, uint64_t index)
+{
+    return (double)(sq__hash(seed, stream, index) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Uniform in [-1, 1). */
+static inline double sq__rand11(uint64_t seed, uint64_t stream, uint64_t index)
+{
+    return 2.0 * sq__rand01(seed, stream, index) - 1.0;
+}
+
+/* Streams: one per use, so that changing one stage never reshuffles another. */
+enum {
+    SQ_STREAM_SPOTS = 1,
+    SQ_STREAM_SCALES,
+    SQ_STREAM_DETAIL,
+    SQ_STREAM_WARP_LARGE_X,
+    SQ_STREAM_WARP_LARGE_Y,
+    SQ_STREAM_WARP_SMALL_X,
+    SQ_STREAM_WARP_SMALL_Y,
+    SQ_STREAM_COLOR_NOISE,
+    SQ_STREAM_KEEL,
+    SQ_STREAM_BELLY
+};
+
+/* ---- small helpers ---- */
+
+static inline int sq__wrap(int i, int n)
+{
+    if ((unsigned)i < (unsigned)n)
+        return i;
+    i %= n;
+    return i < 0 ? i + n : i;
+}
+
+/* floor() for values well inside the int range, without a libm call (the baseline
+ * x86-64 target has no SSE4.1 rounding instruction). */
+static inline int sq__ifloor(float x)
+{
+    int i = (int)x;
+    return i - (x < (float)i);
+}
+
+static inline float sq__clamp01(float x)
+{
+    return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x);
+}
+
+/* Texture lengths in 1/256 of the width, in pixels of a texture `width` wide. */
+static inline double sq__px(double amount, int width)
+{
+    return amount * (double)width / 256.0;
+}
+
+/* 64-byte aligned, zeroed float buffer of n elements (NULL when n is 0 or no memory).
+ * Large buffers are aligned to 2 MiB and asked for transparent huge pages, and zeroed
+ * by all threads: page faults were a tenth of the generator's time. Free with free(). */
+float *sq__falloc(size_t n);
+void sq__ffree(float *p);
+
+/* The same without zeroing, for buffers that are written in full before being read. */
+float *sq__falloc_raw(size_t n);
+
+/* An image whose pixels come from sq__falloc_raw (not zeroed); 0 or -1. */
+int sq__image_raw(SqImage *img, int w, int h, int ch, SqColorSpace space);
+
+/* Precomputed linear interpolation along one axis: sample k of a resampling to n
+ * points from a periodic line of m values (centres aligned) reads i0, i1 with weight t. */
+typedef struct SqLerp {
+    int *i0, *i1;
+    float *t;
+} SqLerp;
+
+int sq__lerp_init(SqLerp *l, int n, int m);
+void sq__lerp_free(SqLerp *l);
+
+/* ---- filters (filter.c): every one wraps around the edges ---- */
+
+/* Gaussian blur of standard deviation sigma (pixels) by three box passes, in place, on an
+ * interleaved image of ch channels. Returns -1 when out of memory. */
+int sq__blur(float *img, int w, int h, int ch, double sigma);
+
+/* The same along one line of n samples (stride 1). */
+void sq__blur_line(float *line, int n, double sigma);
+
+/* Contrast around 0.5: 0 none, 1 a hard threshold. */
+static inline float sq__contrast(float x, float c)
+{
+    if (c <= 0.0f)
+        return x;
+    float k = c >= 0.999f ? 1000.0f : 1.0f / (1.0f - c);
+    return sq__clamp01((x - 0.5f) * k + 0.5f);
+}
+
+/* Levels: input black/white points and midtone (0.5 = linear), output [0,1]. */
+float sq__levels(float x, float lo, float hi, float mid);
+
+/* Bilinear sample at pixel coordinates (x, y) (pixel centres at integers), wrapping,
+ * of channel c of an interleaved image. */
+static inline float sq__sample(const float *img, int w, int h, int ch, int c, float x, float y)
+{
+    int ix = sq__ifloor(x), iy = sq__ifloor(y);
+    float fx = (float)ix, fy = (float)iy;
+    int x0 = sq__wrap(ix, w), y0 = sq__wrap(iy, h);
+    int x1 = x0 + 1 == w ? 0 : x0 + 1, y1 = y0 + 1 == h ? 0 : y0 + 1;
+    float tx = x - fx, ty = y - fy;
+    const float *r0 = img + (size_t)y0 * w * ch, *r1 = img + (size_t)y1 * w * ch;
+    float a = r0[x0 * ch + c] + (r0[x1 * ch + c] - r0[x0 * ch + c]) * tx;
+    float b = r1[x0 * ch + c] + (r1[x1 * ch + c] - r1[x0 * ch + c]) * tx;
+    return a + (b - a) * ty;
+}
+
+/* Resamples a periodic single-channel image (sw x sh) to (dw x dh), bilinear. */
+void sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh);
+
+/* ---- noise (noise.c): periodic over the texture ---- */
+
+/* Fractal sum of smooth value noise, octave k having (cells << k) cells across the
+ * width, amplitude gain^k; normalised to [0,1] over the image. Octaves finer than half
+ * the image resolution are left out (they would alias). Returns -1 when out of memory. */
+int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
+            double gain);
+
+/* Periodic Perlin gradient noise (about [-1, 1]) on a lattice of cx x cy cells over the
+ * texture. The gradients are drawn once, at init. */
+typedef struct SqPerlin {
+    int cx, cy;
+    float *g; /* cx * cy unit gradients (x, y) */
+} SqPerlin;
+
+int sq__perlin_init(SqPerlin *n, uint64_t seed, uint64_t stream, int cx, int cy);
+void sq__perlin_free(SqPerlin *n);
+
+/* Noise at texture coordinates (u, v), any real values (periodic). */
+float sq__perlin(const SqPerlin *n, double u, double v);
+
+/* ---- the pattern (pattern_*.c): coverage layers composited over the background ---- */
+
+typedef enum SqLayerKind {
+    SQ_LAYER_FULL, /* coverage 1 everywhere, no buffer */
+    SQ_LAYER_ROWS, /* coverage depends on y only: h values */
+    SQ_LAYER_COLS, /* coverage depends on x only: w values */
+    SQ_LAYER_2D    /* w * h values */
+} SqLayerKind;
+
+typedef struct SqLayer {
+    SqLayerKind kind;
+    float *cov;      /* coverage in [0,1] */
+    float color[4];  /* straight RGBA; alpha is the layer's opacity */
+    int has_levels;  /* apply levels (lo, hi, mid) after blur and contrast */
+    float levels[3];
+} SqLayer;
+
+enum { SQ_MAX_LAYERS = 6 };
+
+typedef struct SqPattern {
+    int w, h, n;
+    SqLayer layers[SQ_MAX_LAYERS]; /* painted in order */
+} SqPattern;
+
+void sq__pattern_free(SqPattern *pat);
+
+/* Adds a layer of the given kind (coverage allocated and zeroed) and colour; NULL with
+ * err filled when full or out of memory. */
+SqLayer *sq__pattern_add(SqPattern *pat, SqLayerKind kind, const double color[4], SqError *err);
+
+/* Each pattern type adds its layers to pat (w, h set by the caller). */
+SqStatus sq__pattern_transversal(const SqParams *p, SqPattern *pat, SqError *err);
+SqStatus sq__pattern_longitudinal(const SqParams *p, SqPattern *pat, SqError *err);
+SqStatus sq__pattern_spots(const SqParams *p, SqPattern *pat, SqError *err);
+SqStatus sq__pattern_ca(const SqParams *p, SqPattern *pat, SqError *err);
+
+/* Fraction of pixel row y (of h) inside the band [b0, b1) (wrapping when b0 > b1). */
+double sq__band_coverage(int y, int h, double b0, double b1);
+
+/* Fraction of pixel column x (of w) covered by n pinched longitudinal stripes. */
+double sq__stripe_coverage(int x, int w, int n, double stripes_width, double pinch);
+
+/* Spots per row and rows of spots for a w x h texture. */
+void sq__spots_grid(const SqParams *p, int w, int h, int *nx, int *ny);
+
+/* The CA image coverage (before blur): w x h, circles of the 1 cells. */
+SqStatus sq__ca_coverage(const SqParams *p, float *cov, int w, int h, SqError *err);
+
+/* Post-process (§4.2.4): rotate 90 degrees, blur, contrast, applied to every layer. */
+SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err);
+
+/* Paints the layers into a premultiplied RGBA image (w x h x 4). */
+void sq__pattern_composite(const SqPattern *pat, float *rgba);
+
+/* 1 when every layer is FULL, ROWS or COLS, so the pattern can be sampled from its
+ * profiles without an image. */
+int sq__pattern_is_1d(const SqPattern *pat);
+
+/* Linear interpolation of a periodic profile at t (sample centres at integers). */
+static inline float sq__profile_at(const float *v, int n, float t)
+{
+    int f = sq__ifloor(t);
+    int a = sq__wrap(f, n), b = a + 1 == n ? 0 : a + 1;
+    return v[a] + (v[b] - v[a]) * (t - (float)f);
+}
+
+/* The premultiplied pattern colour at pixel coordinates (x, y) (pixel centres at
+ * integers), from the 1-D profiles, interpolated and wrapping. */
+static inline void sq__pattern_sample_1d(const SqPattern *pat, float x, float y, float out[4])
+{
+    out[0] = out[1] = out[2] = out[3] = 0;
+    for (int i = 0; i < pat->n; i++) {
+        const SqLayer *l = &pat->layers[i];
+        float cov = l->kind == SQ_LAYER_ROWS   ? sq__profile_at(l->cov, pat->h, y)
+                    : l->kind == SQ_LAYER_COLS ? sq__profile_at(l->cov, pat->w, x)
+                                               : 1.0f;
+        float a = cov * l->color[3], k = 1.0f - a;
+        out[0] = l->color[0] * a + out[0] * k;
+        out[1] = l->color[1] * a + out[1] * k;
+        out[2] = l->color[2] * a + out[2] * k;
+        out[3] = a + out[3] * k;
+    }
+}
+
+/* ---- outline (outline.c), warp (warp.c) ---- */
+
+/* Adds the outline of the premultiplied pattern image `rgba` over it, using the height
+ * map for its distortion (§4.2.6). */
+SqStatus sq__outline(const SqParams *p, float *rgba, const float *height, int w, int h,
+                     SqError *err);
+
+/* The warp of §4.2.7 as a displacement field (pixels) on a coarse gw x gh grid, to be
+ * interpolated; n == 0 (and nothing allocated) when the warp is below a pixel. */
+typedef struct SqWarp {
+    int gw, gh;
+    float *dx, *dy;
+} SqWarp;
+
+SqStatus sq__warp_field(const SqParams *p, int w, int h, SqWarp *warp, SqError *err);
+void sq__warp_free(SqWarp *warp);
+
+/* Displacement at pixel (x, y) of a w x h image. */
+static inline void sq__warp_at(const SqWarp *wp, int w, int h, int x, int y, float *dx, float *dy)
+{
+    float gx = ((float)x + 0.5f) * (float)wp->gw / (float)w - 0.5f;
+    float gy = ((float)y + 0.5f) * (float)wp->gh / (float)h - 0.5f;
+    *dx = sq__sample(wp->dx, wp->gw, wp->gh, 1, 0, gx, gy);
+    *dy = sq__sample(wp->dy, wp->gw, wp->gh, 1, 0, gx, gy);
+}
+
+/* ---- height, roughness, normal (scales.c, surface.c) ---- */
+
+/* The height map of the tiled scales with the ventral stretch (§4.3.1-4.3.3), without
+ * micro detail. scratch holds w x h floats the function may overwrite. */
+SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int h, SqError *err);
+
+/* The single scale (§4.3.1) as an s x s image of height (channel 0) and coverage
+ * (channel 1), interleaved. */
+void sq__scale_stamp(const SqParams *p, float *stamp, int s);
+
+/* Normal map (3 channels) from a height map. */
+void sq__normals(const float *height, int w, int h, double intensity, int directx,
+                 float *normal);
+
+#endif
