@@ -3,7 +3,9 @@
  * and the time per pixel against a memory-bandwidth probe run in the same process.
  *
  * usage: bench_generator [PRESET] [--sizes 256,512,...] [--runs N]
- * Ends with: RESULT generator ms_<size>=... ratio_<size>=... ns_px_<size>=... gbs=... */
+ * Renders reuse their output maps (sq_gen_render_into), as a fit or batch does; the
+ * first, cold render of each size (fresh memory: allocation and page faults) is shown
+ * apart. Ends with: RESULT generator ms_<size>=... ratio_<size>=... ns_px_<size>=... gbs=... */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -85,41 +87,56 @@ int main(int argc, char **argv)
     double gbs = bandwidth_probe();
     printf("preset %s, %d threads, write bandwidth %.1f GB/s\n", preset ? preset : "(defaults)",
            threads, gbs);
-    printf("%6s %10s %10s %8s %9s %10s\n", "size", "squama ms", "thesis ms", "ratio", "ns/pixel",
-           "x bw floor");
+    printf("%6s %10s %10s %8s %9s %10s %9s\n", "size", "squama ms", "thesis ms", "ratio", "ns/pixel",
+           "x bw floor", "cold ms");
     char result[2048];
     int rn = snprintf(result, sizeof result, "RESULT generator");
     for (int s = 0; s < nsizes; s++) {
         int size = sizes[s], n = runs ? runs : (size >= 4096 ? 5 : size >= 2048 ? 7 : 11);
+        n = n < 1 ? 1 : (n > 31 ? 31 : n);
         double t[32];
+        SqGenTimings stages[32];
         SqGenOptions o = sq_gen_options_default(size);
-        for (int r = 0; r <= n && r < 32; r++) { /* the first run warms up */
-            SqTextures tex;
+        SqTextures tex = {0};
+        double cold = 0;
+        for (int r = 0; r <= n && r < 32; r++) { /* the first run is the cold one */
+            o.timings = &stages[r > 0 ? r - 1 : 0];
             double t0 = now_ms();
-            if (sq_gen_render(&p, &o, &tex, &err) != SQ_OK) {
+            if (sq_gen_render_into(&p, &o, &tex, &err) != SQ_OK) {
                 fprintf(stderr, "bench: %s (%s)\n", err.what, err.where);
                 return 1;
             }
             double dt = now_ms() - t0;
             if (r > 0)
                 t[r - 1] = dt;
-            sq_gen_textures_free(&tex);
+            else
+                cold = dt;
         }
-        qsort(t, (size_t)n, sizeof t[0], cmp_double);
-        double med = t[n / 2], ref = 0;
+        sq_gen_textures_free(&tex);
+        /* the stage times of the median run */
+        double sorted[32];
+        memcpy(sorted, t, sizeof(double) * (size_t)n);
+        qsort(sorted, (size_t)n, sizeof sorted[0], cmp_double);
+        double med = sorted[n / 2], ref = 0;
+        const SqGenTimings *st = &stages[0];
+        for (int r = 0; r < n; r++)
+            if (t[r] == med)
+                st = &stages[r];
         for (size_t k = 0; k < sizeof thesis / sizeof thesis[0]; k++)
             if (thesis[k].size == size)
                 ref = thesis[k].ms;
         double px = (double)size * size, nspx = med * 1e6 / px;
         /* the four maps hold 8 floats a pixel: writing them once at the probe's rate */
         double floor_ms = px * 8 * sizeof(float) / (gbs * 1e6);
-        printf("%6d %10.2f %10.2f %8.2f %9.2f %10.1f\n", size, med, ref, ref > 0 ? ref / med : 0,
-               nspx, med / floor_ms);
+        printf("%6d %10.2f %10.2f %8.2f %9.2f %10.1f %9.2f   (scales %.1f, detail %.1f, "
+               "normal %.1f, pattern %.1f, colour %.1f)\n",
+               size, med, ref, ref > 0 ? ref / med : 0, nspx, med / floor_ms, cold, st->scales,
+               st->detail, st->normal, st->pattern, st->color);
         rn += snprintf(result + rn, sizeof result - (size_t)rn, " ms_%d=%.2f", size, med);
         if (ref > 0)
             rn += snprintf(result + rn, sizeof result - (size_t)rn, " ratio_%d=%.2f", size, ref / med);
-        rn += snprintf(result + rn, sizeof result - (size_t)rn, " ns_px_%d=%.2f bwx_%d=%.1f", size,
-                       nspx, size, med / floor_ms);
+        rn += snprintf(result + rn, sizeof result - (size_t)rn, " ns_px_%d=%.2f bwx_%d=%.1f cold_%d=%.1f",
+                       size, nspx, size, med / floor_ms, size, cold);
     }
     printf("%s gbs=%.1f threads=%d\n", result, gbs, threads);
     return 0;

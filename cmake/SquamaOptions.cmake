@@ -17,6 +17,9 @@ foreach(flag IN LISTS _sq_c_warnings)
 endforeach()
 target_compile_options(squama_options INTERFACE
   $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wshadow>)
+# squama never reads errno after a math function: let sqrt and friends be inlined and
+# vectorised (not -ffast-math: NaN and infinity keep their meaning)
+target_compile_options(squama_options INTERFACE -fno-math-errno)
 if(SQUAMA_WERROR)
   target_compile_options(squama_options INTERFACE -Werror)
 endif()

@@ -148,6 +148,11 @@ void sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh);
 int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
             double gain);
 
+/* The same before its final resampling to w x h: a *rx x *ry image (sq__falloc'd, free
+ * with sq__ffree), NULL when out of memory. */
+float *sq__fbm_coarse(int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
+                      double gain, int *rx, int *ry);
+
 /* Periodic Perlin gradient noise (about [-1, 1]) on a lattice of cx x cy cells over the
  * texture. The gradients are drawn once, at init. */
 typedef struct SqPerlin {
@@ -214,10 +219,6 @@ SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err
 
 /* Paints the layers into a premultiplied RGBA image (w x h x 4). */
 void sq__pattern_composite(const SqPattern *pat, float *rgba);
-
-/* 1 when every layer is FULL, ROWS or COLS, so the pattern can be sampled from its
- * profiles without an image. */
-int sq__pattern_is_1d(const SqPattern *pat);
 
 /* Linear interpolation of a periodic profile at t (sample centres at integers). */
 static inline float sq__profile_at(const float *v, int n, float t)

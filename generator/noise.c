@@ -3,6 +3,7 @@
  * texture, so the maps tile. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "gen_internal.h"
 
@@ -94,11 +95,11 @@ static void value_octave(float *img, int rx, int ry, uint64_t seed, uint64_t str
     free(sx);
 }
 
-int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
-            double gain)
+float *sq__fbm_coarse(int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
+                     double gain, int *rx_out, int *ry_out)
 {
     /* Pyramid: each octave is evaluated at about 4 pixels per lattice cell, the running
-     * sum upsampled as the resolution grows; the cost stays near 4/3 of one image. */
+     * sum upsampled as the resolution grows; the cost stays near 4/3 of the finest level. */
     float *acc = NULL;
     int ax = 0, ay = 0;
     double amp = 1.0;
@@ -113,7 +114,7 @@ int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells,
         float *lvl = sq__falloc((size_t)rx * ry);
         if (!lvl) {
             sq__ffree(acc);
-            return -1;
+            return NULL;
         }
         if (acc)
             sq__resample(acc, ax, ay, lvl, rx, ry);
@@ -123,24 +124,31 @@ int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells,
         ax = rx;
         ay = ry;
     }
+    float lo = acc[0], hi = acc[0];
+    for (size_t i = 0; i < (size_t)ax * ay; i++) {
+        lo = acc[i] < lo ? acc[i] : lo;
+        hi = acc[i] > hi ? acc[i] : hi;
+    }
+    const float s = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+    for (size_t i = 0; i < (size_t)ax * ay; i++)
+        acc[i] = (acc[i] - lo) * s;
+    *rx_out = ax;
+    *ry_out = ay;
+    return acc;
+}
+
+int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
+            double gain)
+{
+    int ax, ay;
+    float *acc = sq__fbm_coarse(w, h, seed, stream, cells, octaves, gain, &ax, &ay);
+    if (!acc)
+        return -1;
+    /* bilinear resampling stays inside [0, 1] */
     if (ax != w || ay != h)
         sq__resample(acc, ax, ay, out, w, h);
     else
-        for (size_t i = 0; i < (size_t)w * h; i++)
-            out[i] = acc[i];
+        memcpy(out, acc, sizeof(float) * (size_t)w * h);
     sq__ffree(acc);
-
-    float lo = out[0], hi = out[0];
-#pragma omp parallel for schedule(static) reduction(min : lo) reduction(max : hi)
-    for (int y = 0; y < h; y++)
-        for (size_t i = (size_t)y * w; i < (size_t)(y + 1) * w; i++) {
-            lo = out[i] < lo ? out[i] : lo;
-            hi = out[i] > hi ? out[i] : hi;
-        }
-    float s = hi > lo ? 1.0f / (hi - lo) : 0.0f;
-#pragma omp parallel for schedule(static)
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
-            out[(size_t)y * w + x] = (out[(size_t)y * w + x] - lo) * s;
     return 0;
 }

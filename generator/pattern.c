@@ -1,5 +1,6 @@
 /* The pattern as coverage layers: post-process (§4.2.4: rotate 90 degrees, blur,
  * contrast) and composition into one premultiplied RGBA image. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,6 +51,41 @@ static SqStatus rotate_layer(SqPattern *pat, SqLayer *l, SqError *err)
     return SQ_OK;
 }
 
+/* A wide Gaussian on a large image, computed where it is cheap: for sigma of 6 pixels
+ * and more, on the image box-averaged by a power of two f (while f divides the sides),
+ * then interpolated back. The box average and the interpolation blur too; their
+ * variances ((f^2 - 1)/12 and about f^2/6 per axis) are taken out of the small blur. */
+static int blur_2d(float *img, int w, int h, double sigma)
+{
+    int f = 1;
+    while (sigma >= 6.0 * f && w % (2 * f) == 0 && h % (2 * f) == 0 && w / (2 * f) >= 32 &&
+           h / (2 * f) >= 32)
+        f *= 2;
+    if (f == 1)
+        return sq__blur(img, w, h, 1, sigma);
+    const int dw = w / f, dh = h / f;
+    float *small = sq__falloc_raw((size_t)dw * dh);
+    if (!small)
+        return -1;
+    const float norm = 1.0f / (float)(f * f);
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < dh; y++)
+        for (int x = 0; x < dw; x++) {
+            float sum = 0;
+            for (int j = 0; j < f; j++) {
+                const float *r = img + (size_t)(y * f + j) * w + (size_t)x * f;
+                for (int i = 0; i < f; i++)
+                    sum += r[i];
+            }
+            small[(size_t)y * dw + x] = sum * norm;
+        }
+    double var = sigma * sigma - (f * f - 1) / 12.0 - f * f / 6.0;
+    int rc = sq__blur(small, dw, dh, 1, var > 0 ? sqrt(var) / f : 0);
+    sq__resample(small, dw, dh, img, w, h);
+    sq__ffree(small);
+    return rc;
+}
+
 SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err)
 {
     SqStatus st;
@@ -69,7 +105,7 @@ SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err
         if (n == 0)
             continue;
         if (l->kind == SQ_LAYER_2D) {
-            if (sq__blur(l->cov, pat->w, pat->h, 1, sigma) != 0)
+            if (blur_2d(l->cov, pat->w, pat->h, sigma) != 0)
                 return sq_error_set(err, SQ_ERR_NOMEM, "pattern", "out of memory blurring the pattern");
         } else {
             sq__blur_line(l->cov, (int)n, sigma);
@@ -139,11 +175,4 @@ SqLayer *sq__pattern_add(SqPattern *pat, SqLayerKind kind, const double color[4]
     return l;
 }
 
-int sq__pattern_is_1d(const SqPattern *pat)
-{
-    for (int i = 0; i < pat->n; i++)
-        if (pat->layers[i].kind == SQ_LAYER_2D)
-            return 0;
-    return 1;
-}
 

@@ -46,39 +46,46 @@ SqStatus sq__ca_coverage(const SqParams *p, float *cov, int w, int h, SqError *e
         return sq_error_set(err, SQ_ERR_NOMEM, "CA_Descriptor", "out of memory for the automaton");
     sq_ca_evolve(ca, data);
 
-    const double d = p->CA_CircleDiameter, rad = d / 2;
-    const double mirror_shift = ca->shift_mirror * d / 3.0; /* cells */
-    const int k = (int)ceil(rad + 0.5) + 1;                  /* neighbour cells to test */
-    const double sx = (double)n / w, sy = (double)rows / h;  /* cells per pixel */
-    const double aa = sx > sy ? sx : sy;                     /* edge softness, cells */
+    const float d = (float)p->CA_CircleDiameter, rad = d / 2;
+    const float mirror_shift = (float)(ca->shift_mirror * p->CA_CircleDiameter / 3.0); /* cells */
+    const float sx = (float)n / (float)w, sy = (float)rows / (float)h; /* cells per pixel */
+    const float aa = sx > sy ? sx : sy;                                 /* edge softness, cells */
+    const float reach = rad + aa;                                       /* beyond it: nothing */
+    const int k = (int)ceilf(reach) + 1;
 
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < h; y++) {
-        double Y = (y + 0.5) * sy;
-        int t0 = (int)floor(Y);
-        for (int x = 0; x < w; x++) {
-            double X = (x + 0.5) * sx, best = 0;
-            for (int t = t0 - k; t <= t0 + k; t++) {
-                int tw = sq__wrap(t, rows);
-                int top = tw < e;                  /* the mirrored copy is on top */
-                int r = top ? e - 1 - tw : tw - e; /* row of the automaton */
-                double off = (ca->type == SQ_CA_TRIANGULAR && r % 2 == 1 ? 0.5 : 0.0) +
-                             (top ? mirror_shift : 0.0);
-                double cy = t + 0.5, dy = Y - cy;
-                if (fabs(dy) > rad + aa)
-                    continue;
-                int c0 = (int)floor(X - off);
-                for (int c = c0 - k; c <= c0 + k; c++) {
-                    if (!data[(size_t)r * n + sq__wrap(c, n)])
+        const float Y = ((float)y + 0.5f) * sy;
+        const int t0 = sq__ifloor(Y);
+        float *out = cov + (size_t)y * w;
+        for (int x = 0; x < w; x++)
+            out[x] = 0.0f;
+        /* for each display row near this pixel row, the circles of its 1 cells */
+        for (int t = t0 - k; t <= t0 + k; t++) {
+            const float dy = Y - ((float)t + 0.5f);
+            if (fabsf(dy) >= reach)
+                continue;
+            const int tw = sq__wrap(t, rows);
+            const int top = tw < e;                  /* the mirrored copy is on top */
+            const int r = top ? e - 1 - tw : tw - e; /* row of the automaton */
+            const float off = (ca->type == SQ_CA_TRIANGULAR && r % 2 == 1 ? 0.5f : 0.0f) +
+                              (top ? mirror_shift : 0.0f);
+            const uint8_t *cells = data + (size_t)r * n;
+            const float half = sqrtf(reach * reach - dy * dy); /* circle half-chord */
+            for (int x = 0; x < w; x++) {
+                const float X = ((float)x + 0.5f) * sx - off;
+                const int c0 = sq__ifloor(X - half), c1 = sq__ifloor(X + half);
+                float best = out[x];
+                for (int c = c0; c <= c1; c++) {
+                    if (!cells[sq__wrap(c, n)])
                         continue;
-                    double dx = X - (c + 0.5 + off);
-                    double edge = rad - sqrt(dx * dx + dy * dy); /* > 0 inside */
-                    double a = edge / aa + 0.5;
+                    const float dx = X - ((float)c + 0.5f);
+                    const float a = (rad - sqrtf(dx * dx + dy * dy)) / aa + 0.5f;
                     if (a > best)
-                        best = a > 1 ? 1 : a;
+                        best = a > 1.0f ? 1.0f : a;
                 }
+                out[x] = best;
             }
-            cov[(size_t)y * w + x] = (float)best;
         }
     }
     free(data);

@@ -2,6 +2,7 @@
  * normal maps; the colour map as background, pattern layers, post-process, outline and
  * warp. */
 #include <string.h>
+#include <time.h>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -10,12 +11,20 @@
 #include "gen_internal.h"
 
 /* The fractal sum shared by the height map's micro detail and the roughness (§4.4). */
-enum { DETAIL_CELLS = 32, DETAIL_OCTAVES = 5, COLOR_CELLS = 4, COLOR_OCTAVES = 4 };
+enum { DETAIL_CELLS = 32, DETAIL_OCTAVES = 4, COLOR_CELLS = 4, COLOR_OCTAVES = 4 };
 
 SqGenOptions sq_gen_options_default(int size)
 {
-    SqGenOptions o = {.width = size, .height = size, .normal_directx = 0, .threads = 0};
+    SqGenOptions o = {.width = size, .height = size, .normal_directx = 0, .threads = 0,
+                      .timings = NULL};
     return o;
+}
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
 }
 
 void sq_gen_textures_free(SqTextures *t)
@@ -32,8 +41,9 @@ void sq_gen_textures_free(SqTextures *t)
  * it. The pattern is sampled through the warp's displacement; patterns made only of
  * stripe profiles are sampled from the profiles, with no pattern image at all. */
 static SqStatus render_color(const SqParams *p, const float *height, float *col, int w, int h,
-                             SqError *err)
+                             SqGenTimings *tm, SqError *err)
 {
+    double t0 = now_ms();
     const size_t n = (size_t)w * h;
     SqPattern pat = {.w = w, .h = h};
     SqWarp warp = {0};
@@ -52,7 +62,9 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     }
     if (st == SQ_OK)
         st = sq__pattern_postprocess(p, &pat, err);
-    const int sample_1d = pat.n > 0 && sq__pattern_is_1d(&pat) && !p->Has_Outline;
+    /* without an outline the layers are sampled where the colour map needs them; the
+     * outline needs the pattern as an image */
+    const int sample_1d = pat.n > 0 && !p->Has_Outline;
     if (st == SQ_OK && pat.n > 0 && !sample_1d) {
         if (!(rgba = sq__falloc_raw(n * 4)))
             st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the pattern");
@@ -63,58 +75,149 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     }
     if (st == SQ_OK && pat.n > 0)
         st = sq__warp_field(p, w, h, &warp, err);
+    /* the colour noise is smooth (its finest octave has 32 cells): made at no more than
+     * 256 pixels across and interpolated */
     const float ni = (float)p->Color_NoiseIntensity;
+    const int nw = w < 256 ? w : 256, nh = h * nw / w > 0 ? h * nw / w : 1;
+    SqLerp nx = {0}, ny = {0};
     if (st == SQ_OK && ni > 0) {
-        if (!(noise = sq__falloc_raw(n)) ||
-            sq__fbm(noise, w, h, (uint64_t)p->Seed, SQ_STREAM_COLOR_NOISE, COLOR_CELLS, COLOR_OCTAVES, 0.5))
+        if (!(noise = sq__falloc_raw((size_t)nw * nh)) ||
+            sq__fbm(noise, nw, nh, (uint64_t)p->Seed, SQ_STREAM_COLOR_NOISE, COLOR_CELLS, COLOR_OCTAVES, 0.5) ||
+            sq__lerp_init(&nx, w, nw) || sq__lerp_init(&ny, h, nh))
             st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the colour noise");
     }
     SqLerp wx = {0}, wy = {0};
+    tm->pattern = now_ms() - t0;
+    t0 = now_ms();
     if (st == SQ_OK && warp.dx && (sq__lerp_init(&wx, w, warp.gw) || sq__lerp_init(&wy, h, warp.gh)))
         st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the warp");
     if (st == SQ_OK) {
         const float bg[3] = {(float)p->Background_Color[0], (float)p->Background_Color[1],
                              (float)p->Background_Color[2]};
-#pragma omp parallel for schedule(static)
-        for (int y = 0; y < h; y++) {
-            const float *dx0 = NULL, *dx1 = NULL, *dy0 = NULL, *dy1 = NULL;
-            float ty = 0;
-            if (warp.dx) {
-                dx0 = warp.dx + (size_t)wy.i0[y] * warp.gw;
-                dx1 = warp.dx + (size_t)wy.i1[y] * warp.gw;
-                dy0 = warp.dy + (size_t)wy.i0[y] * warp.gw;
-                dy1 = warp.dy + (size_t)wy.i1[y] * warp.gw;
-                ty = wy.t[y];
+        const int gw = warp.dx ? warp.gw : 1;
+        int failed = 0;
+        /* Row by row, in simple passes over arrays: the displaced coordinates, the pattern,
+         * the noise, then the composition. */
+#pragma omp parallel
+        {
+            float *buf = malloc(sizeof(float) * ((size_t)7 * w + 2 * (size_t)gw + (size_t)nw));
+            if (!buf) {
+#pragma omp atomic write
+                failed = 1;
             }
-            for (int x = 0; x < w; x++) {
-                const size_t i = (size_t)y * w + x;
-                float pc[4] = {0, 0, 0, 0}, fx = (float)x, fy = (float)y;
-                if (warp.dx) {
-                    const int a = wx.i0[x], b = wx.i1[x];
-                    const float tx = wx.t[x];
-                    float t0 = dx0[a] + (dx0[b] - dx0[a]) * tx, t1 = dx1[a] + (dx1[b] - dx1[a]) * tx;
-                    fx += t0 + (t1 - t0) * ty;
-                    t0 = dy0[a] + (dy0[b] - dy0[a]) * tx;
-                    t1 = dy1[a] + (dy1[b] - dy1[a]) * tx;
-                    fy += t0 + (t1 - t0) * ty;
+#pragma omp barrier
+            if (!failed) {
+                float *fxs = buf, *fys = fxs + w, *pr = fys + w, *pg = pr + w, *pb = pg + w,
+                      *pa = pb + w, *nf = pa + w, *rowx = nf + w, *rowy = rowx + gw, *nrow = rowy + gw;
+#pragma omp for schedule(static)
+                for (int y = 0; y < h; y++) {
+                    if (warp.dx) {
+                        const float *dx0 = warp.dx + (size_t)wy.i0[y] * gw, *dx1 = warp.dx + (size_t)wy.i1[y] * gw;
+                        const float *dy0 = warp.dy + (size_t)wy.i0[y] * gw, *dy1 = warp.dy + (size_t)wy.i1[y] * gw;
+                        const float ty = wy.t[y];
+                        for (int g = 0; g < gw; g++) {
+                            rowx[g] = dx0[g] + (dx1[g] - dx0[g]) * ty;
+                            rowy[g] = dy0[g] + (dy1[g] - dy0[g]) * ty;
+                        }
+                        for (int x = 0; x < w; x++) {
+                            const int a = wx.i0[x], c = wx.i1[x];
+                            fxs[x] = (float)x + rowx[a] + (rowx[c] - rowx[a]) * wx.t[x];
+                            fys[x] = (float)y + rowy[a] + (rowy[c] - rowy[a]) * wx.t[x];
+                        }
+                    } else {
+                        for (int x = 0; x < w; x++) {
+                            fxs[x] = (float)x;
+                            fys[x] = (float)y;
+                        }
+                    }
+                    for (int x = 0; x < w; x++)
+                        pr[x] = pg[x] = pb[x] = pa[x] = 0.0f;
+                    if (sample_1d && !warp.dx) { /* profiles read directly */
+                        for (int li = 0; li < pat.n; li++) {
+                            const SqLayer *l = &pat.layers[li];
+                            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
+                            if (l->kind == SQ_LAYER_COLS || l->kind == SQ_LAYER_2D) {
+                                const float *cv = l->cov + (l->kind == SQ_LAYER_2D ? (size_t)y * w : 0);
+                                for (int x = 0; x < w; x++) {
+                                    float al = cv[x] * lo, k = 1.0f - al;
+                                    pr[x] = lr * al + pr[x] * k;
+                                    pg[x] = lg * al + pg[x] * k;
+                                    pb[x] = lb * al + pb[x] * k;
+                                    pa[x] = al + pa[x] * k;
+                                }
+                            } else {
+                                const float al = (l->kind == SQ_LAYER_ROWS ? l->cov[y] : 1.0f) * lo, k = 1.0f - al;
+                                for (int x = 0; x < w; x++) {
+                                    pr[x] = lr * al + pr[x] * k;
+                                    pg[x] = lg * al + pg[x] * k;
+                                    pb[x] = lb * al + pb[x] * k;
+                                    pa[x] = al + pa[x] * k;
+                                }
+                            }
+                        }
+                    } else if (sample_1d) {
+                        for (int li = 0; li < pat.n; li++) {
+                            const SqLayer *l = &pat.layers[li];
+                            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
+                            for (int x = 0; x < w; x++) {
+                                float cov = l->kind == SQ_LAYER_COLS   ? sq__profile_at(l->cov, pat.w, fxs[x])
+                                            : l->kind == SQ_LAYER_ROWS ? sq__profile_at(l->cov, pat.h, fys[x])
+                                            : l->kind == SQ_LAYER_2D   ? sq__sample(l->cov, w, h, 1, 0, fxs[x], fys[x])
+                                                                       : 1.0f;
+                                float al = cov * lo, k = 1.0f - al;
+                                pr[x] = lr * al + pr[x] * k;
+                                pg[x] = lg * al + pg[x] * k;
+                                pb[x] = lb * al + pb[x] * k;
+                                pa[x] = al + pa[x] * k;
+                            }
+                        }
+                    } else if (rgba) {
+                        for (int x = 0; x < w; x++) {
+                            float c4[4];
+                            if (warp.dx) {
+                                for (int c = 0; c < 4; c++)
+                                    c4[c] = sq__sample(rgba, w, h, 4, c, fxs[x], fys[x]);
+                            } else {
+                                memcpy(c4, rgba + ((size_t)y * w + x) * 4, sizeof c4);
+                            }
+                            pr[x] = c4[0];
+                            pg[x] = c4[1];
+                            pb[x] = c4[2];
+                            pa[x] = c4[3];
+                        }
+                    }
+                    if (noise) {
+                        const float *n0 = noise + (size_t)ny.i0[y] * nw, *n1 = noise + (size_t)ny.i1[y] * nw;
+                        const float ty = ny.t[y];
+                        for (int g = 0; g < nw; g++)
+                            nrow[g] = n0[g] + (n1[g] - n0[g]) * ty;
+                        for (int x = 0; x < w; x++) {
+                            const int a = nx.i0[x], c = nx.i1[x];
+                            nf[x] = 1.0f + ni * (2.0f * (nrow[a] + (nrow[c] - nrow[a]) * nx.t[x]) - 1.0f);
+                        }
+                    } else {
+                        for (int x = 0; x < w; x++)
+                            nf[x] = 1.0f;
+                    }
+                    float *out = col + (size_t)y * w * 3;
+                    for (int x = 0; x < w; x++) {
+                        const float k = nf[x] * (1.0f - pa[x]);
+                        out[3 * x] = sq__clamp01(bg[0] * k + pr[x]);
+                        out[3 * x + 1] = sq__clamp01(bg[1] * k + pg[x]);
+                        out[3 * x + 2] = sq__clamp01(bg[2] * k + pb[x]);
+                    }
                 }
-                if (sample_1d) {
-                    sq__pattern_sample_1d(&pat, fx, fy, pc);
-                } else if (rgba && warp.dx) {
-                    for (int c = 0; c < 4; c++)
-                        pc[c] = sq__sample(rgba, w, h, 4, c, fx, fy);
-                } else if (rgba) {
-                    for (int c = 0; c < 4; c++)
-                        pc[c] = rgba[4 * i + c];
-                }
-                const float f = noise ? 1.0f + ni * (2.0f * noise[i] - 1.0f) : 1.0f, k = 1.0f - pc[3];
-                for (int c = 0; c < 3; c++)
-                    col[3 * i + c] = sq__clamp01(bg[c] * f * k + pc[c]);
             }
+            free(buf);
         }
+        if (failed)
+            st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the colour map");
     }
     sq__lerp_free(&wx);
     sq__lerp_free(&wy);
+    sq__lerp_free(&nx);
+    sq__lerp_free(&ny);
+    tm->color = now_ms() - t0;
     sq__pattern_free(&pat);
     sq__warp_free(&warp);
     sq__ffree(rgba);
@@ -122,39 +225,69 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     return st;
 }
 
-static SqStatus render(const SqParams *p, int w, int h, int directx, SqTextures *out, SqError *err)
+static SqStatus render(const SqParams *p, int w, int h, int directx, SqTextures *out,
+                       SqGenTimings *tm, SqError *err)
 {
-    /* every map is written in full: no zeroing */
-    if (sq__image_raw(&out->basecolor, w, h, 3, SQ_SPACE_SRGB) ||
-        sq__image_raw(&out->height, w, h, 1, SQ_SPACE_DATA) ||
-        sq__image_raw(&out->roughness, w, h, 1, SQ_SPACE_DATA) ||
-        sq__image_raw(&out->normal, w, h, 3, SQ_SPACE_DATA))
-        return sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for %dx%d maps", w, h);
+    double t0 = now_ms();
+    /* maps of the right size are reused (written in full: no zeroing) */
+    if (out->basecolor.px == NULL || out->basecolor.width != w || out->basecolor.height != h ||
+        !out->height.px || !out->roughness.px || !out->normal.px) {
+        sq_gen_textures_free(out);
+        if (sq__image_raw(&out->basecolor, w, h, 3, SQ_SPACE_SRGB) ||
+            sq__image_raw(&out->height, w, h, 1, SQ_SPACE_DATA) ||
+            sq__image_raw(&out->roughness, w, h, 1, SQ_SPACE_DATA) ||
+            sq__image_raw(&out->normal, w, h, 3, SQ_SPACE_DATA))
+            return sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for %dx%d maps", w, h);
+    }
+    tm->alloc = now_ms() - t0;
+    t0 = now_ms();
     /* the roughness map is the scales' scratch until the fractal sum fills it */
     SqStatus st = sq__scales(p, out->height.px, out->roughness.px, w, h, err);
     if (st != SQ_OK)
         return st;
+    tm->scales = now_ms() - t0;
+    t0 = now_ms();
 
-    /* micro detail and roughness from one fractal sum (kept in the roughness map) */
+    /* micro detail and roughness from one fractal sum, interpolated from its finest level
+     * in the same pass that writes both maps */
     float *rough = out->roughness.px, *height = out->height.px;
-    if (sq__fbm(rough, w, h, (uint64_t)p->Seed, SQ_STREAM_DETAIL, DETAIL_CELLS, DETAIL_OCTAVES, 0.5))
+    int fw, fh;
+    float *fbm = sq__fbm_coarse(w, h, (uint64_t)p->Seed, SQ_STREAM_DETAIL, DETAIL_CELLS,
+                                DETAIL_OCTAVES, 0.5, &fw, &fh);
+    SqLerp lx = {0}, ly = {0};
+    if (!fbm || sq__lerp_init(&lx, w, fw) || sq__lerp_init(&ly, h, fh)) {
+        sq__ffree(fbm);
+        sq__lerp_free(&lx);
         return sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the detail noise");
+    }
     const float detail = (float)p->Scales_DetailNormal;
     const float rmin = (float)p->Scales_RoughnessMin, rspan = (float)(p->Scales_RoughnessMax - p->Scales_RoughnessMin);
 #pragma omp parallel for schedule(static)
-    for (int y = 0; y < h; y++)
-        for (size_t i = (size_t)y * w; i < (size_t)(y + 1) * w; i++) {
-            float f = rough[i];
-            height[i] = sq__clamp01(height[i] + detail * (2.0f * f - 1.0f));
-            rough[i] = rmin + rspan * f;
+    for (int y = 0; y < h; y++) {
+        const float *r0 = fbm + (size_t)ly.i0[y] * fw, *r1 = fbm + (size_t)ly.i1[y] * fw;
+        const float ty = ly.t[y];
+        float *hr = height + (size_t)y * w, *rr = rough + (size_t)y * w;
+        for (int x = 0; x < w; x++) {
+            const int a = lx.i0[x], b = lx.i1[x];
+            const float e0 = r0[a] + (r0[b] - r0[a]) * lx.t[x], e1 = r1[a] + (r1[b] - r1[a]) * lx.t[x];
+            const float f = e0 + (e1 - e0) * ty;
+            hr[x] = sq__clamp01(hr[x] + detail * (2.0f * f - 1.0f));
+            rr[x] = rmin + rspan * f;
         }
+    }
+    sq__ffree(fbm);
+    sq__lerp_free(&lx);
+    sq__lerp_free(&ly);
+    tm->detail = now_ms() - t0;
+    t0 = now_ms();
     sq__normals(height, w, h, p->Normal_Intensity, directx, out->normal.px);
-    return render_color(p, height, out->basecolor.px, w, h, err);
+    tm->normal = now_ms() - t0;
+    return render_color(p, height, out->basecolor.px, w, h, tm, err);
 }
 
-SqStatus sq_gen_render(const SqParams *p, const SqGenOptions *opt, SqTextures *out, SqError *err)
+SqStatus sq_gen_render_into(const SqParams *p, const SqGenOptions *opt, SqTextures *maps,
+                            SqError *err)
 {
-    memset(out, 0, sizeof *out);
     SqStatus st = sq_params_validate(p, err);
     if (st != SQ_OK)
         return st;
@@ -172,10 +305,22 @@ SqStatus sq_gen_render(const SqParams *p, const SqGenOptions *opt, SqTextures *o
     if (o.threads > 0)
         omp_set_num_threads(o.threads);
 #endif
-    st = render(p, o.width, o.height, o.normal_directx, out, err);
+    SqGenTimings tm = {0};
+    double t0 = now_ms();
+    st = render(p, o.width, o.height, o.normal_directx, maps, &tm, err);
+    tm.total = now_ms() - t0;
+    if (o.timings)
+        *o.timings = tm;
 #ifdef _OPENMP
     omp_set_num_threads(saved);
 #endif
+    return st;
+}
+
+SqStatus sq_gen_render(const SqParams *p, const SqGenOptions *opt, SqTextures *out, SqError *err)
+{
+    memset(out, 0, sizeof *out);
+    SqStatus st = sq_gen_render_into(p, opt, out, err);
     if (st != SQ_OK)
         sq_gen_textures_free(out);
     return st;

@@ -160,8 +160,18 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
     /* pixels per stamp unit: the lens (LENS_HW half-width) spans lens_w columns */
     const double ax = L.lens_w * colw / 2 / LENS_HW, ay = L.lens_h * rowh / 2 / LENS_HH;
     int s = 32;
-    while (s < 512 && s < 2 * ax && s < 2 * ay)
+    while (s < 512 && (s < 2 * ax || s < 2 * ay)) /* no axis undersampled */
         s *= 2;
+    /* When one texel of the largest stamp spans more than 1.25 pixels, the tiling holds
+     * no detail a half-resolution tiling would miss: render it there (into the scratch
+     * buffer, which has room for both half-size images) and interpolate up. */
+    if (2 * (ax > ay ? ax : ay) / s > 1.25 && w % 2 == 0 && h % 2 == 0 && w >= 512 && h >= 512) {
+        float *half_h = scratch, *half_t = scratch + (size_t)(w / 2) * (h / 2);
+        SqStatus st = sq__scales(p, half_h, half_t, w / 2, h / 2, err);
+        if (st == SQ_OK)
+            sq__resample(half_h, w / 2, h / 2, height, w, h);
+        return st;
+    }
     float *stamp = sq__falloc((size_t)2 * s * s);
     L.left = malloc(sizeof(int) * (size_t)L.Y);
     L.right = malloc(sizeof(int) * (size_t)L.Y);
@@ -183,6 +193,23 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
                 ex = X > ex ? X : ex;
                 ey = Y > ey ? Y : ey;
             }
+    /* per stamp row, the columns with content: unrotated scales visit only those */
+    int *span = malloc(sizeof(int) * 2 * (size_t)s);
+    if (!span) {
+        sq__ffree(stamp);
+        free(L.left);
+        free(L.right);
+        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+    }
+    for (int j = 0; j < s; j++) {
+        span[2 * j] = s;
+        span[2 * j + 1] = -1;
+        for (int i = 0; i < s; i++)
+            if (stamp[2 * (j * s + i) + 1] > 0 || stamp[2 * (j * s + i)] > 0) {
+                span[2 * j] = i < span[2 * j] ? i : span[2 * j];
+                span[2 * j + 1] = i;
+            }
+    }
     const double rot_max = p->Scales_RotationRandom * M_PI / 180.0;
     double rx = ex * ax, ry = ey * ay; /* pixel half-extents */
     if (rot_max > 0) {
@@ -258,7 +285,27 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
                     float *row = height + (size_t)y * w, *tr = trans + (size_t)y * w;
                     const float dy0 = (float)(y + 0.5 - cy);
                     const float belly_v = belly_amp > 0 ? (float)sin(2 * M_PI * (y + 0.5) / h * 3 + j) : 0.0f;
-                    for (int x = sx0; x < sx1; x++) {
+                    int xa = sx0, xb = sx1;
+                    if (th == 0) { /* only the columns where this stamp row has content */
+                        float fyr = (dy0 * iay + 1) * half_s - 0.5f;
+                        int r0 = (int)fyr, r1 = r0 + 1;
+                        if (fyr < 0 || r1 >= s)
+                            continue;
+                        int lo = span[2 * r0] < span[2 * r1] ? span[2 * r0] : span[2 * r1];
+                        int hi = span[2 * r0 + 1] > span[2 * r1 + 1] ? span[2 * r0 + 1] : span[2 * r1 + 1];
+                        if (lo > hi && !role)
+                            continue;
+                        double xl = cx + ((lo - 0.5) / half_s - 1) / iax, xr = cx + ((hi + 1.5) / half_s - 1) / iax;
+                        if (!(role & 1) && xl > xa)
+                            xa = (int)floor(xl);
+                        if (!(role & 2) && xr < xb)
+                            xb = (int)ceil(xr);
+                        if (lo > hi) { /* empty row: only the ventral extension is left */
+                            if (role & 1) xb = (int)ceil(cx);
+                            if (role & 2) xa = (int)floor(cx);
+                        }
+                    }
+                    for (int x = xa; x < xb; x++) {
                         if (tr[x] <= 0.0f)
                             continue;
                         float dx = (float)(x + 0.5 - cx), dy = dy0;
@@ -291,6 +338,7 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
     }
     free(wob);
     sq__ffree(stamp);
+    free(span);
     free(L.left);
     free(L.right);
     return SQ_OK;

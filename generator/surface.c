@@ -5,6 +5,14 @@
 
 #include "gen_internal.h"
 
+static inline void normal_at(float gx, float gy, float ysign, float *out)
+{
+    float nx = -gx, ny = ysign * gy, inv = 1.0f / sqrtf(nx * nx + ny * ny + 1.0f);
+    out[0] = 0.5f + 0.5f * nx * inv;
+    out[1] = 0.5f + 0.5f * ny * inv;
+    out[2] = 0.5f + 0.5f * inv;
+}
+
 void sq__normals(const float *height, int w, int h, double intensity, int directx, float *normal)
 {
     const float k = (float)(intensity * w / 256.0) * 0.5f;
@@ -14,13 +22,10 @@ void sq__normals(const float *height, int w, int h, double intensity, int direct
         const float *up = height + (size_t)sq__wrap(y - 1, h) * w, *dn = height + (size_t)sq__wrap(y + 1, h) * w;
         const float *row = height + (size_t)y * w;
         float *out = normal + (size_t)y * w * 3;
-        for (int x = 0; x < w; x++) {
-            float gx = (row[x + 1 < w ? x + 1 : 0] - row[x > 0 ? x - 1 : w - 1]) * k;
-            float gy = (dn[x] - up[x]) * k; /* image y grows downwards */
-            float nx = -gx, ny = ysign * gy, inv = 1.0f / sqrtf(nx * nx + ny * ny + 1.0f);
-            out[3 * x] = 0.5f + 0.5f * nx * inv;
-            out[3 * x + 1] = 0.5f + 0.5f * ny * inv;
-            out[3 * x + 2] = 0.5f + 0.5f * inv;
-        }
+        /* the two edge columns wrap; the interior is a plain loop the compiler vectorises */
+        normal_at((row[1 % w] - row[w - 1]) * k, (dn[0] - up[0]) * k, ysign, out);
+        for (int x = 1; x < w - 1; x++)
+            normal_at((row[x + 1] - row[x - 1]) * k, (dn[x] - up[x]) * k, ysign, out + 3 * x);
+        normal_at((row[0] - row[w - 2]) * k, (dn[w - 1] - up[w - 1]) * k, ysign, out + 3 * (w - 1));
     }
 }

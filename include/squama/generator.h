@@ -26,10 +26,22 @@
 extern "C" {
 #endif
 
+/* Where a render's time went, in milliseconds (filled when SqGenOptions.timings is set). */
+typedef struct SqGenTimings {
+    double alloc;   /* the four output maps */
+    double scales;  /* height map: stamp and tiling */
+    double detail;  /* fractal sum, micro detail, roughness */
+    double normal;  /* normal map */
+    double pattern; /* pattern layers, post-process, outline, warp field */
+    double color;   /* colour map: sampling, background, composition */
+    double total;
+} SqGenTimings;
+
 typedef struct SqGenOptions {
-    int width, height;  /* output size in pixels (both >= 8) */
-    int normal_directx; /* 1: DirectX normal maps (-Y) */
-    int threads;        /* OpenMP threads; 0 = the OpenMP default */
+    int width, height;     /* output size in pixels (both >= 8) */
+    int normal_directx;    /* 1: DirectX normal maps (-Y) */
+    int threads;           /* OpenMP threads; 0 = the OpenMP default */
+    SqGenTimings *timings; /* optional: filled with the time per stage */
 } SqGenOptions;
 
 typedef struct SqTextures {
@@ -47,6 +59,13 @@ SqGenOptions sq_gen_options_default(int size);
 /* Renders the four maps. p is validated first. On error the textures are freed. */
 SqStatus sq_gen_render(const SqParams *p, const SqGenOptions *opt, SqTextures *out,
                        SqError *err);
+
+/* The same into maps from an earlier render (or zeroed): maps of the requested size are
+ * overwritten in place, others (re)allocated. A caller rendering many times (a fit, a
+ * batch) keeps one SqTextures and saves the allocation and the page faults of fresh
+ * memory. On error the maps stay allocated with unspecified contents. */
+SqStatus sq_gen_render_into(const SqParams *p, const SqGenOptions *opt, SqTextures *maps,
+                            SqError *err);
 
 /* Frees the four maps; NULL-safe. */
 void sq_gen_textures_free(SqTextures *t);
