@@ -135,20 +135,21 @@ static void box_row(float *row, int w, int ch, int r, float *ext)
     }
 }
 
-void sq__blur_line(float *line, int n, double sigma)
+int sq__blur_line(float *line, int n, double sigma)
 {
     if (sigma < 0.5 || n < 2)
-        return;
+        return 0;
     int radii[3];
     box_radii(sigma, 3, radii);
     int rmax = radii[0] > radii[2] ? radii[0] : radii[2];
     float *ext = malloc(sizeof(float) * (size_t)(n + 2 * rmax + 1));
     if (!ext)
-        return;
+        return -1;
     for (int k = 0; k < 3; k++)
         if (radii[k] > 0)
             box_row(line, n, 1, radii[k], ext);
     free(ext);
+    return 0;
 }
 
 enum { STRIP = 64 }; /* columns blurred together in the vertical pass */
@@ -218,12 +219,12 @@ int sq__blur(float *img, int w, int h, int ch, double sigma)
     return failed ? -1 : 0;
 }
 
-void sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh)
+int sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh)
 {
-    SqLerp lx, ly;
+    SqLerp lx = {0}, ly = {0};
     if (sq__lerp_init(&lx, dw, sw) || sq__lerp_init(&ly, dh, sh)) {
         sq__lerp_free(&lx);
-        return;
+        return -1;
     }
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < dh; y++) {
@@ -238,4 +239,5 @@ void sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh)
     }
     sq__lerp_free(&lx);
     sq__lerp_free(&ly);
+    return 0;
 }

@@ -107,8 +107,8 @@ void sq__lerp_free(SqLerp *l);
  * interleaved image of ch channels. Returns -1 when out of memory. */
 int sq__blur(float *img, int w, int h, int ch, double sigma);
 
-/* The same along one line of n samples (stride 1). */
-void sq__blur_line(float *line, int n, double sigma);
+/* The same along one line of n samples (stride 1). Returns -1 when out of memory. */
+int sq__blur_line(float *line, int n, double sigma);
 
 /* Contrast around 0.5: 0 none, 1 a hard threshold. */
 static inline float sq__contrast(float x, float c)
@@ -137,8 +137,9 @@ static inline float sq__sample(const float *img, int w, int h, int ch, int c, fl
     return a + (b - a) * ty;
 }
 
-/* Resamples a periodic single-channel image (sw x sh) to (dw x dh), bilinear. */
-void sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh);
+/* Resamples a periodic single-channel image (sw x sh) to (dw x dh), bilinear. Returns -1
+ * when out of memory. */
+int sq__resample(const float *src, int sw, int sh, float *dst, int dw, int dh);
 
 /* ---- noise (noise.c): periodic over the texture ---- */
 
@@ -279,8 +280,8 @@ static inline void sq__warp_at(const SqWarp *wp, int w, int h, int x, int y, flo
 SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int h, SqError *err);
 
 /* The single scale (§4.3.1) as an s x s image of height (channel 0) and coverage
- * (channel 1), interleaved. */
-void sq__scale_stamp(const SqParams *p, float *stamp, int s);
+ * (channel 1), interleaved. Returns -1 when out of memory. */
+int sq__scale_stamp(const SqParams *p, float *stamp, int s);
 
 /* Normal map (3 channels) from a height map. */
 void sq__normals(const float *height, int w, int h, double intensity, int directx,

@@ -55,8 +55,8 @@ float sq__perlin(const SqPerlin *n, double u, double v)
 
 /* One octave of value noise with cx x cy lattice cells, cubic-smoothed, sampled at
  * rx x ry pixels, added with amplitude amp. */
-static void value_octave(float *img, int rx, int ry, uint64_t seed, uint64_t stream, int cx,
-                         int cy, float amp)
+static int value_octave(float *img, int rx, int ry, uint64_t seed, uint64_t stream, int cx,
+                        int cy, float amp)
 {
     float *lat = malloc(sizeof(float) * (size_t)cx * cy);
     int *i0 = malloc(sizeof(int) * (size_t)rx * 2);
@@ -65,7 +65,7 @@ static void value_octave(float *img, int rx, int ry, uint64_t seed, uint64_t str
         free(lat);
         free(i0);
         free(sx);
-        return;
+        return -1;
     }
     for (int j = 0; j < cy; j++)
         for (int i = 0; i < cx; i++)
@@ -93,6 +93,7 @@ static void value_octave(float *img, int rx, int ry, uint64_t seed, uint64_t str
     free(lat);
     free(i0);
     free(sx);
+    return 0;
 }
 
 float *sq__fbm_coarse(int w, int h, uint64_t seed, uint64_t stream, int cells, int octaves,
@@ -116,11 +117,13 @@ float *sq__fbm_coarse(int w, int h, uint64_t seed, uint64_t stream, int cells, i
             sq__ffree(acc);
             return NULL;
         }
-        if (acc)
-            sq__resample(acc, ax, ay, lvl, rx, ry);
+        int bad = acc ? sq__resample(acc, ax, ay, lvl, rx, ry) : 0;
         sq__ffree(acc);
-        value_octave(lvl, rx, ry, seed, stream * 64 + (uint64_t)k, cx, cy, (float)amp);
         acc = lvl;
+        if (bad || value_octave(lvl, rx, ry, seed, stream * 64 + (uint64_t)k, cx, cy, (float)amp)) {
+            sq__ffree(acc);
+            return NULL;
+        }
         ax = rx;
         ay = ry;
     }
@@ -145,10 +148,11 @@ int sq__fbm(float *out, int w, int h, uint64_t seed, uint64_t stream, int cells,
     if (!acc)
         return -1;
     /* bilinear resampling stays inside [0, 1] */
+    int rc = 0;
     if (ax != w || ay != h)
-        sq__resample(acc, ax, ay, out, w, h);
+        rc = sq__resample(acc, ax, ay, out, w, h);
     else
         memcpy(out, acc, sizeof(float) * (size_t)w * h);
     sq__ffree(acc);
-    return 0;
+    return rc;
 }

@@ -81,7 +81,7 @@ static int blur_2d(float *img, int w, int h, double sigma)
         }
     double var = sigma * sigma - (f * f - 1) / 12.0 - f * f / 6.0;
     int rc = sq__blur(small, dw, dh, 1, var > 0 ? sqrt(var) / f : 0);
-    sq__resample(small, dw, dh, img, w, h);
+    rc |= sq__resample(small, dw, dh, img, w, h);
     sq__ffree(small);
     return rc;
 }
@@ -107,8 +107,8 @@ SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err
         if (l->kind == SQ_LAYER_2D) {
             if (blur_2d(l->cov, pat->w, pat->h, sigma) != 0)
                 return sq_error_set(err, SQ_ERR_NOMEM, "pattern", "out of memory blurring the pattern");
-        } else {
-            sq__blur_line(l->cov, (int)n, sigma);
+        } else if (sq__blur_line(l->cov, (int)n, sigma) != 0) {
+            return sq_error_set(err, SQ_ERR_NOMEM, "pattern", "out of memory blurring the pattern");
         }
         if (c > 0.0f || l->has_levels) {
 #pragma omp parallel for schedule(static)

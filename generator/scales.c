@@ -26,14 +26,14 @@ static const double CONE_R = 0.75, CONE_D = 0.375;
 #define LENS_HW (CONE_R - CONE_D)
 #define LENS_HH (0.649519052838329) /* sqrt(R^2 - D^2) */
 
-void sq__scale_stamp(const SqParams *p, float *stamp, int s)
+int sq__scale_stamp(const SqParams *p, float *stamp, int s)
 {
     const double gamma = 1.0 / (1.0 + 8.0 * p->ScaleShape_Contrast);
     const double grow = 1.0 + 0.3 * p->Scales_Expansion;
     const double r = CONE_R * grow, d = CONE_D * grow;
     float *lens = sq__falloc((size_t)s * s);
     if (!lens)
-        return;
+        return -1;
     for (int j = 0; j < s; j++) {
         double Y = (j + 0.5) / s * 2 - 1;
         for (int i = 0; i < s; i++) {
@@ -45,7 +45,10 @@ void sq__scale_stamp(const SqParams *p, float *stamp, int s)
         }
     }
     /* the stamp has an empty margin, so the wrap-around of the blur is harmless */
-    sq__blur(lens, s, s, 1, p->ScaleShape_Blur * s / 256.0);
+    if (sq__blur(lens, s, s, 1, p->ScaleShape_Blur * s / 256.0) != 0) {
+        sq__ffree(lens);
+        return -1;
+    }
 
     const double g = p->ScaleShape_Gradient;
     const double keel_hw = p->ScaleShape_KeelThickness * LENS_HW;
@@ -79,6 +82,7 @@ void sq__scale_stamp(const SqParams *p, float *stamp, int s)
         for (int k = 0; k < s * s; k++)
             stamp[2 * k] /= hmax;
     sq__ffree(lens);
+    return 0;
 }
 
 typedef struct Layout {
@@ -168,8 +172,8 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
     if (2 * (ax > ay ? ax : ay) / s > 1.25 && w % 2 == 0 && h % 2 == 0 && w >= 512 && h >= 512) {
         float *half_h = scratch, *half_t = scratch + (size_t)(w / 2) * (h / 2);
         SqStatus st = sq__scales(p, half_h, half_t, w / 2, h / 2, err);
-        if (st == SQ_OK)
-            sq__resample(half_h, w / 2, h / 2, height, w, h);
+        if (st == SQ_OK && sq__resample(half_h, w / 2, h / 2, height, w, h) != 0)
+            st = sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
         return st;
     }
     float *stamp = sq__falloc((size_t)2 * s * s);
@@ -181,7 +185,12 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
         free(L.right);
         return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
     }
-    sq__scale_stamp(p, stamp, s);
+    if (sq__scale_stamp(p, stamp, s) != 0) {
+        sq__ffree(stamp);
+        free(L.left);
+        free(L.right);
+        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+    }
     find_belly(&L);
 
     /* extent of the stamp's content, stamp units */
