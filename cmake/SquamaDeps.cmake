@@ -9,6 +9,7 @@ if(NOT SQUAMA_FUZZ)
   find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc)
   pkg_check_modules(NLOPT REQUIRED IMPORTED_TARGET nlopt)
   find_package(GSL REQUIRED)
+  find_package(Threads REQUIRED)
   pkg_check_modules(CMOCKA REQUIRED IMPORTED_TARGET cmocka)
 
   set(SQUAMA_HAVE_MPI OFF)

@@ -1,0 +1,303 @@
+/* Strip features and the objectives between two feature sets (see squama/fitness.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_fft_real.h>
+#include <gsl/gsl_wavelet2d.h>
+
+#include "fitness_internal.h"
+
+enum { NB = SQ_FIT_HIST_BINS, W = SQ_FIT_STRIP_W, MAX_PALETTE_PX = 1024 };
+static const float A_RANGE = 80.0f; /* a*, b* histogram span: [-80, 80] */
+static const double F_LO = 0.25, F_HI = 32.0; /* spectrum bands, cycles per strip width */
+
+const char *sq_fit_objective_name(int i)
+{
+    static const char *const names[SQ_OBJ_COUNT] = {"palette", "histogram", "shape", "along", "across"};
+    return i >= 0 && i < SQ_OBJ_COUNT ? names[i] : "?";
+}
+
+static inline void hist_add(float *hist, const float lab[3])
+{
+    int i = (int)(lab[0] * (NB / 100.0f));
+    int j = (int)((lab[1] + A_RANGE) * (NB / (2 * A_RANGE)));
+    int k = (int)((lab[2] + A_RANGE) * (NB / (2 * A_RANGE)));
+    i = i < 0 ? 0 : (i >= NB ? NB - 1 : i);
+    j = j < 0 ? 0 : (j >= NB ? NB - 1 : j);
+    k = k < 0 ? 0 : (k >= NB ? NB - 1 : k);
+    hist[(i * NB + j) * NB + k] += 1.0f;
+}
+
+/* Smooths the histogram with [1 2 1]/4 along each axis (clamped at the ends), so that a
+ * colour near a bin edge counts in both bins: soft binning at a fraction of its cost. */
+static void hist_smooth(float *hist)
+{
+    float tmp[NB * NB * NB];
+    for (int axis = 0; axis < 3; axis++) {
+        int stride = axis == 0 ? NB * NB : (axis == 1 ? NB : 1);
+        for (int idx = 0; idx < NB * NB * NB; idx++) {
+            int pos = (idx / stride) % NB;
+            float prev = pos > 0 ? hist[idx - stride] : hist[idx];
+            float next = pos < NB - 1 ? hist[idx + stride] : hist[idx];
+            tmp[idx] = 0.25f * prev + 0.5f * hist[idx] + 0.25f * next;
+        }
+        memcpy(hist, tmp, sizeof tmp);
+    }
+}
+
+static int band_of(double f)
+{
+    if (f < F_LO || f >= F_HI)
+        return -1;
+    return (int)(log(f / F_LO) / log(F_HI / F_LO) * SQ_FIT_BANDS);
+}
+
+/* Power spectrum of each of `count` lines of n samples (stride between samples `step`,
+ * between lines `next`), Hann-windowed, accumulated into bands by cycles per strip
+ * width. Returns the total power per sample. */
+static double spectrum(const float *data, int n, int step, int count, int next, float *bands)
+{
+    if (n < 4)
+        return 0;
+    double *x = malloc(sizeof(double) * (size_t)n), *hann = malloc(sizeof(double) * (size_t)n);
+    int *band = malloc(sizeof(int) * (size_t)n);
+    gsl_fft_real_wavetable *wt = gsl_fft_real_wavetable_alloc((size_t)n);
+    gsl_fft_real_workspace *ws = gsl_fft_real_workspace_alloc((size_t)n);
+    double total = 0;
+    if (x && hann && band && wt && ws) {
+        for (int i = 0; i < n; i++) {
+            hann[i] = 0.5 - 0.5 * cos(2 * M_PI * (i + 0.5) / n);
+            band[i] = band_of((double)i / n * W);
+        }
+        for (int line = 0; line < count; line++) {
+            const float *p = data + (size_t)line * next;
+            double mean = 0;
+            for (int i = 0; i < n; i++)
+                mean += p[(size_t)i * step];
+            mean /= n;
+            for (int i = 0; i < n; i++)
+                x[i] = (p[(size_t)i * step] - mean) * hann[i];
+            gsl_fft_real_transform(x, 1, (size_t)n, wt, ws);
+            /* halfcomplex: x[0] = DC, then (re, im) pairs */
+            for (int k = 1; k <= (n - 1) / 2; k++) {
+                double pw = x[2 * k - 1] * x[2 * k - 1] + x[2 * k] * x[2 * k];
+                total += pw;
+                if (band[k] >= 0)
+                    bands[band[k]] += (float)pw;
+            }
+        }
+    }
+    free(x);
+    free(hann);
+    free(band);
+    gsl_fft_real_wavetable_free(wt);
+    gsl_fft_real_workspace_free(ws);
+    /* Parseval with the Hann window's mean square (3/8) */
+    return total / ((double)n * n * count * 0.375 / 2);
+}
+
+static void normalise(float *v, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++)
+        s += v[i];
+    for (int i = 0; i < n; i++)
+        v[i] = s > 0 ? (float)(v[i] / s) : 0.0f;
+}
+
+/* Mean energy per level and orientation of the 2-D Daubechies-4 wavelet transform of
+ * 64 x 64 windows along the strip (half-overlapping), as log10. */
+static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3])
+{
+    gsl_wavelet *wv = gsl_wavelet_alloc(gsl_wavelet_daubechies, 4);
+    gsl_wavelet_workspace *ws = gsl_wavelet_workspace_alloc(W);
+    double *win = malloc(sizeof(double) * W * W);
+    double e[SQ_FIT_LEVELS][3] = {{0}};
+    int windows = 0, ok = wv && ws && win;
+    for (int y0 = 0; ok && y0 + W <= len; y0 += W / 2) {
+        for (int i = 0; i < W * W; i++)
+            win[i] = L[(size_t)y0 * W + i];
+        if (gsl_wavelet2d_nstransform_forward(wv, win, W, W, W, ws) != GSL_SUCCESS) {
+            ok = 0;
+            break;
+        }
+        /* non-standard layout: detail quadrants of side s at (0,s), (s,0), (s,s) */
+        for (int lvl = 0, s = W / 2; lvl < SQ_FIT_LEVELS; lvl++, s /= 2) {
+            double q[3] = {0, 0, 0};
+            for (int r = 0; r < s; r++)
+                for (int c = 0; c < s; c++) {
+                    double h = win[r * W + s + c], v = win[(s + r) * W + c], d = win[(s + r) * W + s + c];
+                    q[0] += h * h;
+                    q[1] += v * v;
+                    q[2] += d * d;
+                }
+            for (int k = 0; k < 3; k++)
+                e[lvl][k] += q[k] / ((double)s * s);
+        }
+        windows++;
+    }
+    for (int lvl = 0; lvl < SQ_FIT_LEVELS; lvl++)
+        for (int k = 0; k < 3; k++)
+            out[lvl][k] = (float)log10(1e-8 + (windows ? e[lvl][k] / windows : 0));
+    gsl_wavelet_free(wv);
+    gsl_wavelet_workspace_free(ws);
+    free(win);
+    return ok ? 0 : -1;
+}
+
+SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures *f, SqError *err)
+{
+    memset(f, 0, sizeof *f);
+    if (!strip || !strip->px || strip->width != W || strip->height < W || strip->channels < 3)
+        return sq_error_set(err, SQ_ERR_INVALID, "strip",
+                            "a strip must be %d pixels wide, at least %d long, with colour", W, W);
+    if (valid && (valid->width != W || valid->height != strip->height || valid->channels != 1))
+        return sq_error_set(err, SQ_ERR_INVALID, "strip", "the strip's mask has another size");
+    gsl_set_error_handler_off();
+    sq__lab_init();
+    const int len = strip->height, n = W * len;
+    float *lab = malloc(sizeof(float) * 3 * (size_t)n), *L = malloc(sizeof(float) * (size_t)n);
+    float *sel = malloc(sizeof(float) * 3 * MAX_PALETTE_PX);
+    if (!lab || !L || !sel) {
+        free(lab);
+        free(L);
+        free(sel);
+        return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for features");
+    }
+    int count = 0;
+    double lsum = 0;
+    for (int i = 0; i < n; i++) {
+        sq_fit_srgb_to_lab(strip->px + (size_t)i * strip->channels, lab + 3 * i);
+        if (!valid || valid->px[i] > 0.5f) {
+            hist_add(f->hist, lab + 3 * i);
+            lsum += lab[3 * i];
+            count++;
+        }
+    }
+    f->valid_pixels = count;
+    if (count < W * 4) {
+        free(lab);
+        free(L);
+        free(sel);
+        return sq_error_set(err, SQ_ERR_INVALID, "strip",
+                            "the strip has %d valid pixels: too little of the body is visible", count);
+    }
+    hist_smooth(f->hist);
+    normalise(f->hist, NB * NB * NB);
+    /* lightness in [0,1]; pixels that do not count take the mean (they add no detail) */
+    const float lmean = (float)(lsum / count / 100.0);
+    for (int i = 0; i < n; i++)
+        L[i] = (!valid || valid->px[i] > 0.5f) ? lab[3 * i] / 100.0f : lmean;
+
+    /* palette from an even subsample of the valid pixels */
+    int stride = count / MAX_PALETTE_PX + 1, ns = 0, seen = 0;
+    for (int i = 0; i < n && ns < MAX_PALETTE_PX; i++)
+        if (!valid || valid->px[i] > 0.5f) {
+            if (seen++ % stride == 0) {
+                memcpy(sel + 3 * ns, lab + 3 * i, sizeof(float) * 3);
+                ns++;
+            }
+        }
+    sq__palette(sel, ns, SQ_FIT_PALETTE, f->palette, f->palette_w);
+
+    int bad = wavelet_energies(L, len, f->wavelet);
+    /* every other line is plenty for the mean spectrum, at half the cost */
+    f->along_power = (float)spectrum(L, len, W, W / 2, 2, f->along);
+    f->across_power = (float)spectrum(L, W, 1, len / 2, 2 * W, f->across);
+    normalise(f->along, SQ_FIT_BANDS);
+    normalise(f->across, SQ_FIT_BANDS);
+
+    /* the across profile, folded about the centre (left and right are not told apart) */
+    double col[W] = {0};
+    for (int y = 0; y < len; y++)
+        for (int x = 0; x < W; x++)
+            col[x] += L[(size_t)y * W + x];
+    double pm = 0;
+    for (int i = 0; i < SQ_FIT_PROFILE; i++) {
+        f->profile[i] = (float)((col[W / 2 - 1 - i] + col[W / 2 + i]) / (2.0 * len));
+        pm += f->profile[i];
+    }
+    for (int i = 0; i < SQ_FIT_PROFILE; i++)
+        f->profile[i] -= (float)(pm / SQ_FIT_PROFILE);
+    free(lab);
+    free(L);
+    free(sel);
+    if (bad)
+        return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for the wavelet transform");
+    return SQ_OK;
+}
+
+static double chi2(const float *p, const float *q, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++)
+        if (p[i] + q[i] > 0)
+            s += (double)(p[i] - q[i]) * (p[i] - q[i]) / (p[i] + q[i]);
+    return 0.5 * s;
+}
+
+/* A spectrum's shape counts in proportion to how much pattern there is to have a shape;
+ * the amount itself is compared on a log scale. */
+static double spectral(const float *bt, const float *bc, double pt, double pc)
+{
+    const double eps = 2e-4; /* variance of a barely visible pattern, (L/100)^2 */
+    double m = pt < pc ? pt : pc;
+    return m / (m + eps) * chi2(bt, bc, SQ_FIT_BANDS) + fabs(log10((pt + eps) / (pc + eps)));
+}
+
+/* Earth mover's distance between the two palettes (colour shares as mass, CIEDE2000 as
+ * ground distance), by greedy transport: the cheapest remaining pair moves first. Exact
+ * when the palettes match; close to the optimum for four colours. */
+static double palette_distance(const SqFeatures *a, const SqFeatures *b)
+{
+    enum { K = SQ_FIT_PALETTE };
+    double d[K][K], ma[K], mb[K];
+    int used[K][K] = {{0}};
+    for (int i = 0; i < K; i++) {
+        ma[i] = a->palette_w[i];
+        mb[i] = b->palette_w[i];
+        for (int j = 0; j < K; j++) {
+            double x[3] = {a->palette[i][0], a->palette[i][1], a->palette[i][2]};
+            double y[3] = {b->palette[j][0], b->palette[j][1], b->palette[j][2]};
+            d[i][j] = sq_fit_ciede2000(x, y);
+        }
+    }
+    double cost = 0, moved = 0;
+    for (int step = 0; step < K * K; step++) {
+        int bi = -1, bj = -1;
+        for (int i = 0; i < K; i++)
+            for (int j = 0; j < K; j++)
+                if (!used[i][j] && ma[i] > 0 && mb[j] > 0 && (bi < 0 || d[i][j] < d[bi][bj])) {
+                    bi = i;
+                    bj = j;
+                }
+        if (bi < 0)
+            break;
+        double f = ma[bi] < mb[bj] ? ma[bi] : mb[bj];
+        cost += f * d[bi][bj];
+        moved += f;
+        ma[bi] -= f;
+        mb[bj] -= f;
+        used[bi][bj] = 1;
+    }
+    return moved > 0 ? cost / moved : 0.0;
+}
+
+void sq_fit_objectives(const SqFeatures *t, const SqFeatures *c, double *out)
+{
+    out[SQ_OBJ_PALETTE] = palette_distance(t, c);
+    out[SQ_OBJ_HISTOGRAM] = chi2(t->hist, c->hist, NB * NB * NB);
+    double s = 0;
+    for (int l = 0; l < SQ_FIT_LEVELS; l++)
+        for (int k = 0; k < 3; k++)
+            s += fabs(t->wavelet[l][k] - c->wavelet[l][k]);
+    out[SQ_OBJ_SHAPE] = s / (SQ_FIT_LEVELS * 3);
+    out[SQ_OBJ_ALONG] = spectral(t->along, c->along, t->along_power, c->along_power);
+    double prof = 0;
+    for (int i = 0; i < SQ_FIT_PROFILE; i++)
+        prof += fabs(t->profile[i] - c->profile[i]);
+    out[SQ_OBJ_ACROSS] = spectral(t->across, c->across, t->across_power, c->across_power) +
+                         2.0 * prof / SQ_FIT_PROFILE;
+}

@@ -1,0 +1,92 @@
+/* squama — fitness: how far a candidate's textures are from the snake in a photo.
+ *
+ * Both sides are reduced to a *strip*: an image whose rows run along the body and whose
+ * columns go across it, in surface units (a pixel is the same length of skin in both
+ * directions). A photo's strip comes from straightening the masked body; a candidate's
+ * strip is the dorsal band of its base colour map, u in [c - b/2, c + b/2] around the band
+ * centre c (0.5: the dorsal midline; b: SQ_FIT_BAND_WIDTH), sampled along v at the view
+ * scale (texture tiles per body circumference... see sq_fit_candidate_strip).
+ *
+ * Statistics of the strips are compared, never pixels (Hewgill & Ross §6): colour
+ * (masked CIELAB histograms, a dominant palette matched with CIEDE2000), shape (wavelet
+ * sub-band energies of lightness per level and orientation) and layout (the spectra of
+ * the pattern along and across the body, and the across profile). Each comparison is one
+ * objective; they are ranked by Pareto dominance, never summed.
+ */
+#ifndef SQUAMA_FITNESS_H
+#define SQUAMA_FITNESS_H
+
+#include "error.h"
+#include "generator.h"
+#include "image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The visible band: +-60 degrees around the band centre of a cylinder seen from above,
+ * beyond which foreshortening is extreme. As a fraction of the circumference: 1/3. */
+#define SQ_FIT_BAND_WIDTH (1.0 / 3.0)
+
+enum {
+    SQ_FIT_STRIP_W = 64,   /* strip columns (across the body) */
+    SQ_FIT_HIST_BINS = 8,  /* per CIELAB axis */
+    SQ_FIT_PALETTE = 4,    /* dominant colours */
+    SQ_FIT_LEVELS = 4,     /* wavelet levels */
+    SQ_FIT_BANDS = 12,     /* spectrum bands, log-spaced */
+    SQ_FIT_PROFILE = SQ_FIT_STRIP_W / 2
+};
+
+typedef struct SqFeatures {
+    int valid_pixels;
+    float hist[SQ_FIT_HIST_BINS * SQ_FIT_HIST_BINS * SQ_FIT_HIST_BINS]; /* sums to 1 */
+    float palette[SQ_FIT_PALETTE][3]; /* Lab, by decreasing weight */
+    float palette_w[SQ_FIT_PALETTE];  /* sums to 1 */
+    float wavelet[SQ_FIT_LEVELS][3];  /* log mean energy: horizontal, vertical, diagonal */
+    float along[SQ_FIT_BANDS];        /* lightness power along the body, per band, sums to 1 */
+    float across[SQ_FIT_BANDS];       /* the same across the body */
+    float along_power, across_power;  /* total variance of lightness detail */
+    float profile[SQ_FIT_PROFILE];    /* mean lightness across the body, folded, centred */
+} SqFeatures;
+
+/* The objectives, in order. */
+typedef enum SqObjective {
+    SQ_OBJ_PALETTE = 0, /* earth mover's distance of the palettes in CIEDE2000 units */
+    SQ_OBJ_HISTOGRAM,   /* chi-square between CIELAB histograms */
+    SQ_OBJ_SHAPE,       /* mean absolute difference of log wavelet energies */
+    SQ_OBJ_ALONG,       /* chi-square of the along-body spectra, with the power ratio */
+    SQ_OBJ_ACROSS,      /* the same across the body, with the folded profile */
+    SQ_OBJ_COUNT
+} SqObjective;
+
+/* Names ("palette", "histogram", "shape", "along", "across"). */
+const char *sq_fit_objective_name(int i);
+
+/* Features of a strip: sRGB (3 or 4 channels, SQ_SPACE_SRGB); valid (1 channel, same
+ * size, may be NULL) marks the pixels that count. The strip must be SQ_FIT_STRIP_W wide
+ * and at least SQ_FIT_STRIP_W long. */
+SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures *f, SqError *err);
+
+/* The objectives vector (SQ_OBJ_COUNT values, lower is better, 0 for identical features). */
+void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, double *out);
+
+/* A candidate's strip from its base colour map: SQ_FIT_STRIP_W columns across the band
+ * centred on u = band_centre, `length` rows along v. view_scale is the number of body
+ * circumferences one texture tile spans along the body (the UV layout's repeat): rows
+ * step by band_width / SQ_FIT_STRIP_W / view_scale in v. */
+SqStatus sq_fit_candidate_strip(const SqImage *basecolor, double view_scale, double band_centre,
+                                int length, SqImage *strip, SqError *err);
+
+/* ---- colour science (colour.c) ---- */
+
+/* sRGB-encoded RGB in [0,1] to CIELAB (D65). */
+void sq_fit_srgb_to_lab(const float rgb[3], float lab[3]);
+
+/* CIEDE2000 colour difference (Sharma, Wu & Dalal 2005). */
+double sq_fit_ciede2000(const double lab1[3], const double lab2[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SQUAMA_FITNESS_H */

@@ -1,0 +1,229 @@
+/* Colour science, features and objectives: reference values, and each objective
+ * reacting to the change it is meant to see. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "fitness_internal.h"
+#include "sq_test.h"
+#include "squama/fitness.h"
+#include "squama/generator.h"
+
+/* Sharma, Wu & Dalal (2005), Table 1: all 34 pairs. */
+static const double sharma[34][7] = {
+    {50.0000, 2.6772, -79.7751, 50.0000, 0.0000, -82.7485, 2.0425},
+    {50.0000, 3.1571, -77.2803, 50.0000, 0.0000, -82.7485, 2.8615},
+    {50.0000, 2.8361, -74.0200, 50.0000, 0.0000, -82.7485, 3.4412},
+    {50.0000, -1.3802, -84.2814, 50.0000, 0.0000, -82.7485, 1.0000},
+    {50.0000, -1.1848, -84.8006, 50.0000, 0.0000, -82.7485, 1.0000},
+    {50.0000, -0.9009, -85.5211, 50.0000, 0.0000, -82.7485, 1.0000},
+    {50.0000, 0.0000, 0.0000, 50.0000, -1.0000, 2.0000, 2.3669},
+    {50.0000, -1.0000, 2.0000, 50.0000, 0.0000, 0.0000, 2.3669},
+    {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0009, 7.1792},
+    {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0010, 7.1792},
+    {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0011, 7.2195},
+    {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0012, 7.2195},
+    {50.0000, -0.0010, 2.4900, 50.0000, 0.0009, -2.4900, 4.8045},
+    {50.0000, -0.0010, 2.4900, 50.0000, 0.0010, -2.4900, 4.8045},
+    {50.0000, -0.0010, 2.4900, 50.0000, 0.0011, -2.4900, 4.7461},
+    {50.0000, 2.5000, 0.0000, 50.0000, 0.0000, -2.5000, 4.3065},
+    {50.0000, 2.5000, 0.0000, 73.0000, 25.0000, -18.0000, 27.1492},
+    {50.0000, 2.5000, 0.0000, 61.0000, -5.0000, 29.0000, 22.8977},
+    {50.0000, 2.5000, 0.0000, 56.0000, -27.0000, -3.0000, 31.9030},
+    {50.0000, 2.5000, 0.0000, 58.0000, 24.0000, 15.0000, 19.4535},
+    {50.0000, 2.5000, 0.0000, 50.0000, 3.1736, 0.5854, 1.0000},
+    {50.0000, 2.5000, 0.0000, 50.0000, 3.2972, 0.0000, 1.0000},
+    {50.0000, 2.5000, 0.0000, 50.0000, 1.8634, 0.5757, 1.0000},
+    {50.0000, 2.5000, 0.0000, 50.0000, 3.2592, 0.3350, 1.0000},
+    {60.2574, -34.0099, 36.2677, 60.4626, -34.1751, 39.4387, 1.2644},
+    {63.0109, -31.0961, -5.8663, 62.8187, -29.7946, -4.0864, 1.2630},
+    {61.2901, 3.7196, -5.3901, 61.4292, 2.2480, -4.9620, 1.8731},
+    {35.0831, -44.1164, 3.7933, 35.0232, -40.0716, 1.5901, 1.8645},
+    {22.7233, 20.0904, -46.6940, 23.0331, 14.9730, -42.5619, 2.0373},
+    {36.4612, 47.8580, 18.3852, 36.2715, 50.5065, 21.2231, 1.4146},
+    {90.8027, -2.0831, 1.4410, 91.1528, -1.6435, 0.0447, 1.4441},
+    {90.9257, -0.5406, -0.9208, 88.6381, -0.8985, -0.7239, 1.5381},
+    {6.7747, -0.2908, -2.4247, 5.8714, -0.0985, -2.2286, 0.6377},
+    {2.0776, 0.0795, -1.1350, 0.9033, -0.0636, -0.5514, 0.9082},
+};
+
+static void ciede2000_sharma_pairs(void **state)
+{
+    (void)state;
+    for (int i = 0; i < 34; i++) {
+        double d1 = sq_fit_ciede2000(&sharma[i][0], &sharma[i][3]);
+        double d2 = sq_fit_ciede2000(&sharma[i][3], &sharma[i][0]);
+        if (fabs(d1 - sharma[i][6]) > 1e-4 || fabs(d2 - sharma[i][6]) > 1e-4)
+            fail_msg("pair %d: %.4f / %.4f, want %.4f", i + 1, d1, d2, sharma[i][6]);
+    }
+}
+
+static void srgb_to_lab_reference(void **state)
+{
+    (void)state;
+    static const struct { float rgb[3]; float lab[3]; } ref[] = {
+        {{1, 0, 0}, {53.24f, 80.09f, 67.20f}}, {{0, 1, 0}, {87.73f, -86.18f, 83.18f}},
+        {{0, 0, 1}, {32.30f, 79.19f, -107.86f}}, {{1, 1, 1}, {100, 0, 0}},
+        {{0, 0, 0}, {0, 0, 0}}, {{0.5f, 0.5f, 0.5f}, {53.39f, 0, 0}},
+    };
+    for (size_t i = 0; i < sizeof ref / sizeof ref[0]; i++) {
+        float lab[3];
+        sq_fit_srgb_to_lab(ref[i].rgb, lab);
+        for (int c = 0; c < 3; c++)
+            if (fabsf(lab[c] - ref[i].lab[c]) > 0.1f)
+                fail_msg("colour %zu channel %d: %.3f, want %.3f", i, c, lab[c], ref[i].lab[c]);
+    }
+}
+
+static void features_of(const SqParams *p, double view_scale, SqFeatures *f)
+{
+    SqGenOptions o = sq_gen_options_default(256);
+    SqTextures t;
+    SqError err;
+    if (sq_gen_render(p, &o, &t, &err) != SQ_OK)
+        fail_msg("render: %s", err.what);
+    SqImage strip;
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, view_scale, 0.5, 256, &strip, &err), SQ_OK);
+    if (sq_fit_features(&strip, NULL, f, &err) != SQ_OK)
+        fail_msg("features: %s", err.what);
+    sq_image_free(&strip);
+    sq_gen_textures_free(&t);
+}
+
+static void objectives(const SqFeatures *a, const SqFeatures *b, double *o)
+{
+    sq_fit_objectives(a, b, o);
+    for (int i = 0; i < SQ_OBJ_COUNT; i++)
+        assert_true(isfinite(o[i]) && o[i] >= 0);
+}
+
+static SqParams stripes(int n)
+{
+    SqParams p;
+    sq_params_default(&p);
+    p.Pattern_Type = SQ_PATTERN_LONGITUDINAL;
+    p.Longitudinal_NumberOfStripes = n;
+    p.Longitudinal_StripesWidth = 0.5;
+    p.Longitudinal_Pinch = 2.5; /* all stripes inside the dorsal band */
+    p.Pattern_Warp_Small = 0.2;
+    return p;
+}
+
+static void identical_features_score_zero(void **state)
+{
+    (void)state;
+    SqParams p = stripes(3);
+    SqFeatures a, b;
+    features_of(&p, 1.0, &a);
+    features_of(&p, 1.0, &b);
+    double o[SQ_OBJ_COUNT];
+    sq_fit_objectives(&a, &b, o);
+    for (int i = 0; i < SQ_OBJ_COUNT; i++)
+        assert_true(o[i] < 1e-9);
+}
+
+/* Each objective sees its change more than a re-seeding of the same preset. */
+static void objectives_see_their_changes(void **state)
+{
+    (void)state;
+    double same[SQ_OBJ_COUNT], other[SQ_OBJ_COUNT];
+    SqFeatures ref, reseeded, changed;
+
+    /* stripe count: across */
+    SqParams p = stripes(3), q;
+    features_of(&p, 1.0, &ref);
+    q = p;
+    q.Seed = 99;
+    features_of(&q, 1.0, &reseeded);
+    objectives(&ref, &reseeded, same);
+    q = stripes(5);
+    features_of(&q, 1.0, &changed);
+    objectives(&ref, &changed, other);
+    if (!(other[SQ_OBJ_ACROSS] > 3 * same[SQ_OBJ_ACROSS] + 0.05))
+        fail_msg("stripe count: across %.4f vs reseeded %.4f", other[SQ_OBJ_ACROSS], same[SQ_OBJ_ACROSS]);
+
+    /* colours swapped: palette and histogram (when the colours' areas differ), and the
+     * across profile (which colour lies where) */
+    p.Longitudinal_StripesWidth = 0.25;
+    features_of(&p, 1.0, &ref);
+    q = p;
+    q.Seed = 99;
+    features_of(&q, 1.0, &reseeded);
+    objectives(&ref, &reseeded, same);
+    q = p;
+    memcpy(q.Background_Color, p.Longitudinal_StripesColor, sizeof q.Background_Color);
+    memcpy(q.Longitudinal_StripesColor, p.Background_Color, sizeof q.Background_Color);
+    features_of(&q, 1.0, &changed);
+    objectives(&ref, &changed, other);
+    if (!(other[SQ_OBJ_HISTOGRAM] > 3 * same[SQ_OBJ_HISTOGRAM] + 0.05))
+        fail_msg("colour swap: histogram %.4f vs %.4f", other[SQ_OBJ_HISTOGRAM], same[SQ_OBJ_HISTOGRAM]);
+    if (!(other[SQ_OBJ_PALETTE] > 3 * same[SQ_OBJ_PALETTE] + 2))
+        fail_msg("colour swap: palette %.4f vs %.4f", other[SQ_OBJ_PALETTE], same[SQ_OBJ_PALETTE]);
+    if (!(other[SQ_OBJ_ACROSS] > 3 * same[SQ_OBJ_ACROSS] + 0.05))
+        fail_msg("colour swap: across %.4f vs %.4f", other[SQ_OBJ_ACROSS], same[SQ_OBJ_ACROSS]);
+
+    /* rotated 90 degrees: stripes become rings: shape and both layouts */
+    q = p;
+    q.Pattern_RotatePattern90Degrees = 1;
+    features_of(&q, 1.0, &changed);
+    objectives(&ref, &changed, other);
+    if (!(other[SQ_OBJ_SHAPE] > 3 * same[SQ_OBJ_SHAPE] + 0.1))
+        fail_msg("rotation: shape %.4f vs %.4f", other[SQ_OBJ_SHAPE], same[SQ_OBJ_SHAPE]);
+    if (!(other[SQ_OBJ_ALONG] > 3 * same[SQ_OBJ_ALONG] + 0.1))
+        fail_msg("rotation: along %.4f vs %.4f", other[SQ_OBJ_ALONG], same[SQ_OBJ_ALONG]);
+
+    /* ring spacing: along */
+    SqParams r;
+    sq_params_default(&r);
+    r.Pattern_Type = SQ_PATTERN_TRANSVERSAL;
+    r.Transversal_BeginEnd[0][0] = 0.0;
+    r.Transversal_BeginEnd[0][1] = 0.1;
+    r.Transversal_BeginEnd[1][0] = 0.5;
+    r.Transversal_BeginEnd[1][1] = 0.6;
+    r.Transversal_Color[1][0] = r.Transversal_Color[1][1] = r.Transversal_Color[1][2] = 0.05;
+    features_of(&r, 0.5, &ref);
+    q = r;
+    q.Seed = 7;
+    q.Pattern_Warp_Small = 0.05;
+    features_of(&q, 0.5, &reseeded);
+    objectives(&ref, &reseeded, same);
+    features_of(&r, 1.0, &changed); /* the same rings, twice as far apart in the photo */
+    objectives(&ref, &changed, other);
+    if (!(other[SQ_OBJ_ALONG] > 3 * same[SQ_OBJ_ALONG] + 0.05))
+        fail_msg("ring spacing: along %.4f vs %.4f", other[SQ_OBJ_ALONG], same[SQ_OBJ_ALONG]);
+}
+
+static void refusals(void **state)
+{
+    (void)state;
+    SqImage strip, valid;
+    SqFeatures f;
+    SqError err;
+    sq_image_alloc(&strip, 32, 100, 3, SQ_SPACE_SRGB);
+    assert_int_equal(sq_fit_features(&strip, NULL, &f, &err), SQ_ERR_INVALID);
+    sq_image_free(&strip);
+    sq_image_alloc(&strip, SQ_FIT_STRIP_W, 100, 3, SQ_SPACE_SRGB);
+    sq_image_alloc(&valid, SQ_FIT_STRIP_W, 100, 1, SQ_SPACE_DATA); /* nothing valid */
+    assert_int_equal(sq_fit_features(&strip, &valid, &f, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "too little of the body");
+    sq_image_free(&valid);
+    sq_image_alloc(&valid, SQ_FIT_STRIP_W, 90, 1, SQ_SPACE_DATA);
+    assert_int_equal(sq_fit_features(&strip, &valid, &f, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "another size");
+    sq_image_free(&valid);
+    SqImage none = {0};
+    assert_int_equal(sq_fit_candidate_strip(&none, 1, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_candidate_strip(&strip, 0, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    sq_image_free(&strip);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ciede2000_sharma_pairs),
+        cmocka_unit_test(srgb_to_lab_reference),
+        cmocka_unit_test(identical_features_score_zero),
+        cmocka_unit_test(objectives_see_their_changes),
+        cmocka_unit_test(refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
