@@ -14,6 +14,7 @@ typedef struct CliCommand {
 int cmd_params(int argc, char **argv);
 int cmd_presets(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+int cmd_photo(int argc, char **argv);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "cli.h"
+#include "squama/fitness.h"
 #include "squama/generator.h"
 #include "squama/io.h"
 #include "squama/preset.h"
@@ -31,6 +32,7 @@ static const char help[] =
     "      --ca FILE        use this CA descriptor as the pattern (other_simple)\n"
     "      --seed N         override the preset's Seed\n"
     "      --directx        DirectX normal map (-Y); default OpenGL (+Y)\n"
+    "      --preview        also preview.png: the texture on a lit snake body\n"
     "  -j, --threads N      threads (default: all cores)\n"
     "  -q, --quiet          print nothing but errors\n"
     "  -h, --help           show this help\n";
@@ -75,16 +77,17 @@ static double now_ms(void)
 
 int cmd_render(int argc, char **argv)
 {
-    enum { OPT_CA = 1000, OPT_SEED, OPT_DIRECTX };
+    enum { OPT_CA = 1000, OPT_SEED, OPT_DIRECTX, OPT_PREVIEW };
     static const struct option opts[] = {
         {"output", required_argument, NULL, 'o'}, {"size", required_argument, NULL, 's'},
         {"format", required_argument, NULL, 'f'}, {"bits", required_argument, NULL, 'b'},
         {"ca", required_argument, NULL, OPT_CA},  {"seed", required_argument, NULL, OPT_SEED},
         {"directx", no_argument, NULL, OPT_DIRECTX}, {"threads", required_argument, NULL, 'j'},
+        {"preview", no_argument, NULL, OPT_PREVIEW},
         {"quiet", no_argument, NULL, 'q'},        {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     const char *outdir = NULL, *ca_file = NULL, *ext = "png";
-    int bits = 0, quiet = 0, c;
+    int bits = 0, quiet = 0, preview = 0, c;
     long seed = -1;
     SqGenOptions go = sq_gen_options_default(1024);
     optind = 0;
@@ -120,6 +123,7 @@ int cmd_render(int argc, char **argv)
                 return cli_usage("render", "--seed must be an integer in [0, 2147483647], got '%s'", optarg);
             break;
         case OPT_DIRECTX: go.normal_directx = 1; break;
+        case OPT_PREVIEW: preview = 1; break;
         case 'q': quiet = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
@@ -168,8 +172,8 @@ int cmd_render(int argc, char **argv)
     for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++) {
         char path[4096];
         snprintf(path, sizeof path, "%s/%s.%s", outdir, maps[i].name, ext);
-        SqWriteOptions wo = {png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
-                             bits ? bits : (png ? maps[i].bits : 16)};
+        SqWriteOptions wo = {.format = png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
+                             .bits = bits ? bits : (png ? maps[i].bits : 16)};
         if (sq_io_write_image(path, maps[i].img, &wo, &err) != SQ_OK) {
             rc = cli_fail(&err);
             break;
@@ -180,6 +184,24 @@ int cmd_render(int argc, char **argv)
     if (!quiet && rc == CLI_OK)
         printf("%dx%d %s pattern: generated in %.0f ms, written in %.0f ms\n", go.width, go.height,
                sq_pattern_type_name(p.Pattern_Type), t1 - t0, now_ms() - t1);
+    if (rc == CLI_OK && preview) {
+        SqPhotoOptions po = sq_fit_photo_options_default();
+        po.width = 1024;
+        po.height = 640;
+        po.preview = 1;
+        po.view_scale = 1.5;
+        po.texture_size = go.width < 1024 ? go.width : 1024;
+        SqImage photo, mask;
+        char path[4096];
+        snprintf(path, sizeof path, "%s/preview.png", outdir);
+        if (sq_fit_synth_photo(&p, &po, &photo, &mask, NULL, &err) != SQ_OK ||
+            sq_io_write_image(path, &photo, NULL, &err) != SQ_OK)
+            rc = cli_fail(&err);
+        else if (!quiet)
+            printf("wrote %s\n", path);
+        sq_image_free(&photo);
+        sq_image_free(&mask);
+    }
     sq_gen_textures_free(&tex);
     return rc;
 }

@@ -10,6 +10,7 @@ static const CliCommand commands[] = {
     {"presets", "list the shipped presets; validate preset and CA descriptor files",
      cmd_presets},
     {"render", "render a preset's basecolor, height, roughness and normal maps", cmd_render},
+    {"photo", "a synthetic photo of a preset on a snake body, with mask and truth", cmd_photo},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

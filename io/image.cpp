@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
 
 #include <algorithm>
 #include <cctype>
@@ -128,28 +129,33 @@ SqImageFormat format_from_name(const char *path)
         return SQ_FORMAT_PNG;
     if (ends(".exr"))
         return SQ_FORMAT_EXR;
+    if (ends(".jpg") || ends(".jpeg"))
+        return SQ_FORMAT_JPEG;
     return SQ_FORMAT_AUTO;
 }
 
 SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
                      SqError *err)
 {
-    SqWriteOptions o = opt ? *opt : SqWriteOptions{SQ_FORMAT_AUTO, 0};
+    SqWriteOptions o = opt ? *opt : SqWriteOptions{SQ_FORMAT_AUTO, 0, 0};
     if (o.format == SQ_FORMAT_AUTO)
         o.format = format_from_name(path);
     if (o.format == SQ_FORMAT_AUTO)
         return sq_error_set(err, SQ_ERR_UNSUPPORTED, path,
-                            "cannot tell the image format from the name: use .png or .exr");
+                            "cannot tell the image format from the name: use .png, .exr or .jpg");
     if (!img || !img->px || img->width <= 0 || img->height <= 0 || img->channels < 1 ||
         img->channels > 4)
         return sq_error_set(err, SQ_ERR_INVALID, path, "no image to write");
-    const bool png = o.format == SQ_FORMAT_PNG;
+    const bool jpeg = o.format == SQ_FORMAT_JPEG;
+    const bool png = o.format == SQ_FORMAT_PNG || jpeg; /* display-referred, clamped */
     if (o.bits == 0)
         o.bits = png ? 8 : 16;
-    if (png ? (o.bits != 8 && o.bits != 16) : (o.bits != 16 && o.bits != 32))
+    if (jpeg ? o.bits != 8 : png ? (o.bits != 8 && o.bits != 16) : (o.bits != 16 && o.bits != 32))
         return sq_error_set(err, SQ_ERR_INVALID, path,
-                            "%d-bit %s is not supported (PNG: 8 or 16, EXR: 16 or 32)", o.bits,
-                            png ? "PNG" : "EXR");
+                            "%d-bit %s is not supported (PNG: 8 or 16, EXR: 16 or 32, JPEG: 8)",
+                            o.bits, jpeg ? "JPEG" : png ? "PNG" : "EXR");
+    if (o.quality < 0 || o.quality > 100)
+        return sq_error_set(err, SQ_ERR_INVALID, path, "JPEG quality %d is outside 1..100", o.quality);
 
     const int w = img->width, h = img->height, nch = img->channels;
     const int colour = nch >= 3 ? 3 : (nch == 2 ? 1 : nch); // channels that carry colour
@@ -168,8 +174,19 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
 
     TypeDesc type = png ? (o.bits == 16 ? TypeDesc::UINT16 : TypeDesc::UINT8)
                         : (o.bits == 32 ? TypeDesc::FLOAT : TypeDesc::HALF);
-    ImageSpec spec(w, h, nch, type);
-    if (nch == 2 || nch == 4) {
+    int out_ch = nch;
+    if (jpeg && (nch == 2 || nch == 4)) { /* JPEG has no alpha */
+        out_ch = nch - 1;
+        std::vector<float> noalpha((size_t)w * h * out_ch);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            for (int c = 0; c < out_ch; c++)
+                noalpha[i * out_ch + c] = px[i * nch + c];
+        px.swap(noalpha);
+    }
+    ImageSpec spec(w, h, out_ch, type);
+    if (jpeg)
+        spec.attribute("Compression", Strutil::fmt::format("jpeg:{}", o.quality ? o.quality : 90));
+    if (!jpeg && (nch == 2 || nch == 4)) {
         spec.alpha_channel = nch - 1;
         spec.attribute("oiio:UnassociatedAlpha", 1);
     }
@@ -182,7 +199,7 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
     if (sq__io_make_temp(path, tmp, sizeof tmp) != 0)
         return sq_error_set(err, SQ_ERR_IO, path, "cannot create a file here: %s",
                             std::strerror(errno));
-    auto out = ImageOutput::create(png ? "png" : "openexr");
+    auto out = ImageOutput::create(jpeg ? "jpeg" : png ? "png" : "openexr");
     bool ok = out && out->open(tmp, spec) &&
               out->write_image(TypeDesc::FLOAT, px.data()) && out->close();
     if (!ok) {

@@ -112,4 +112,22 @@ check "render complex" 1 err "needs reaction-diffusion"
 [ -e "$TMP/r/cx/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
 run render "$TMP/typo.json" -o "$TMP/r/t";  check "render bad preset" 1 err "unknown key"
 
+# photo and preview
+run photo --help;         check "photo --help" 0 out "usage: squama photo"
+run photo "$SRC/presets/thesis/table_4_4_spots.json"; check "photo without -o" 2 err "say where the photo goes"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --coil 2; check "photo bad coil" 2 err "--coil must be in [0, 1]"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --size 320x240 --seed 4 --backdrop litter --noise 0.01
+check "photo" 0 out "wrote $TMP/p.jpg, $TMP/p_mask.png, $TMP/p_truth.json"
+[ -s "$TMP/p.jpg" ] && [ -s "$TMP/p_mask.png" ] || { echo "FAIL: photo files missing"; fails=$((fails + 1)); }
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/p_truth.json" <<'PY' || { echo "FAIL: truth JSON"; fails=$((fails + 1)); }
+import json, sys
+t = json.load(open(sys.argv[1]))
+assert t["format"] == "squama-photo-truth/1" and t["preset"]["Pattern_Type"] == "spots"
+assert t["width"] == 320 and t["body_radius"] > 4 and len(t["centre_line"]) > 10
+PY
+fi
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/pv" --size 64 --preview
+check "render --preview" 0 out "wrote $TMP/r/pv/preview.png"
+
 [ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

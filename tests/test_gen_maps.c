@@ -298,7 +298,7 @@ static void compare_golden(const SqImage *img, const char *name)
     SqError err;
     snprintf(rel, sizeof rel, "tests/golden/%s.png", name);
     src_path(path, sizeof path, rel);
-    SqWriteOptions o = {SQ_FORMAT_PNG, 8}; /* 1/255 steps, well inside the tolerance */
+    SqWriteOptions o = {.format = SQ_FORMAT_PNG, .bits = 8}; /* 1/255 steps, well inside the tolerance */
     if (getenv("SQ_UPDATE_GOLDEN")) {
         if (sq_io_write_image(path, img, &o, &err) != SQ_OK)
             fail_msg("%s: %s", path, err.what);

@@ -79,7 +79,7 @@ static void png16_round_trip_grey(void **state)
     SqImage a, b, mask;
     SqError err;
     make_gradient(&a, 20, 9, 1, SQ_SPACE_DATA);
-    SqWriteOptions o = {SQ_FORMAT_PNG, 16};
+    SqWriteOptions o = {.format = SQ_FORMAT_PNG, .bits = 16};
     assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "rt16.png"), &a, &o, &err),
                      SQ_OK);
     assert_int_equal(sq_io_read_image(path, NULL, &b, &mask, &err), SQ_OK);
@@ -103,7 +103,7 @@ static void exr_data_exact_and_colour_linearised(void **state)
     make_gradient(&a, 16, 8, 1, SQ_SPACE_DATA);
     a.px[5] = 3.75f;  /* EXR keeps values outside [0,1] */
     a.px[6] = -0.5f;
-    SqWriteOptions o = {SQ_FORMAT_EXR, 32};
+    SqWriteOptions o = {.format = SQ_FORMAT_EXR, .bits = 32};
     assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "h.exr"), &a, &o, &err),
                      SQ_OK);
     assert_int_equal(sq_io_read_image(path, NULL, &b, NULL, &err), SQ_OK);
@@ -123,6 +123,38 @@ static void exr_data_exact_and_colour_linearised(void **state)
             float want = sq_io_srgb_to_linear(a.px[i * 3 + c]);
             assert_true(fabsf(b.px[i * 4 + c] - want) <= 1e-3f * (1 + want));
         }
+    sq_image_free(&a);
+    sq_image_free(&b);
+}
+
+static void jpeg_round_trip(void **state)
+{
+    (void)state;
+    char path[1024];
+    SqImage a, b;
+    SqError err;
+    assert_int_equal(sq_image_alloc(&a, 48, 32, 4, SQ_SPACE_SRGB), 0);
+    for (int i = 0; i < 48 * 32; i++) { /* smooth, so JPEG keeps it well */
+        a.px[4 * i] = (float)(i % 48) / 47.0f;
+        a.px[4 * i + 1] = (float)(i / 48) / 31.0f;
+        a.px[4 * i + 2] = 0.5f;
+        a.px[4 * i + 3] = 0.0f; /* dropped */
+    }
+    SqWriteOptions o = {.format = SQ_FORMAT_AUTO, .bits = 0, .quality = 95};
+    assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "q.jpg"), &a, &o, &err), SQ_OK);
+    assert_int_equal(sq_io_read_image(path, NULL, &b, NULL, &err), SQ_OK);
+    assert_int_equal(b.width, 48);
+    double d = 0;
+    for (int i = 0; i < 48 * 32; i++)
+        for (int c = 0; c < 3; c++)
+            d += fabsf(a.px[4 * i + c] - b.px[4 * i + c]);
+    assert_true(d / (48 * 32 * 3) < 0.02);
+    assert_true(b.px[3] == 1.0f);
+    o.quality = 101;
+    assert_int_equal(sq_io_write_image(path, &a, &o, &err), SQ_ERR_INVALID);
+    o.quality = 90;
+    o.bits = 16;
+    assert_int_equal(sq_io_write_image(path, &a, &o, &err), SQ_ERR_INVALID);
     sq_image_free(&a);
     sq_image_free(&b);
 }
@@ -264,7 +296,7 @@ static void atomic_writes_and_write_errors(void **state)
     assert_string_equal(err.where, "/nonexistent/dir/x.png");
     assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "x.tga"), &a, NULL, &err),
                      SQ_ERR_UNSUPPORTED);
-    SqWriteOptions o = {SQ_FORMAT_PNG, 12};
+    SqWriteOptions o = {.format = SQ_FORMAT_PNG, .bits = 12};
     assert_int_equal(sq_io_write_image(tmp_path(path, sizeof path, "x.png"), &a, &o, &err),
                      SQ_ERR_INVALID);
     assert_contains(err.what, "12-bit PNG");
@@ -323,6 +355,7 @@ int main(void)
         cmocka_unit_test(png8_round_trip_rgba),
         cmocka_unit_test(png16_round_trip_grey),
         cmocka_unit_test(exr_data_exact_and_colour_linearised),
+        cmocka_unit_test(jpeg_round_trip),
         cmocka_unit_test(srgb_transfer_functions),
         cmocka_unit_test(exif_orientation_applied),
         cmocka_unit_test(tiff_reads),

@@ -77,6 +77,49 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, double view_scale, double band_centre,
                                 int length, SqImage *strip, SqError *err);
 
+/* ---- synthetic photos with ground truth (synth.c) ---- */
+
+typedef enum SqBackdrop {
+    SQ_BACKDROP_RANDOM = 0, /* one of soil, litter, grass, from the seed */
+    SQ_BACKDROP_SOIL,
+    SQ_BACKDROP_LITTER,
+    SQ_BACKDROP_GRASS,
+    SQ_BACKDROP_PLAIN
+} SqBackdrop;
+
+typedef struct SqPhotoOptions {
+    int width, height;    /* the photo, pixels (default 1024 x 768) */
+    unsigned seed;        /* the body's curve, the backdrop, the noise */
+    double body_radius;   /* pixels; 0: random, 3.5% to 7% of the shorter side */
+    double view_scale;    /* body circumferences one texture tile spans; 0: random 0.5..2 */
+    double band_centre;   /* texture u facing the camera (0.5: the dorsal midline) */
+    double coil;          /* 0: a gentle curve .. 1: tight bends and partial coils */
+    SqBackdrop backdrop;
+    double blur;          /* Gaussian blur of the photo, sigma in pixels */
+    double noise;         /* sensor noise, sigma in [0,1] units */
+    double cast;          /* colour cast strength, 0..1 */
+    int texture_size;     /* the preset's maps are rendered this big (default 512) */
+    int preview;          /* 1: a gentle S across the frame on a plain backdrop */
+} SqPhotoOptions;
+
+/* What the photo shows, for tests and benchmarks. */
+typedef struct SqPhotoTruth {
+    double view_scale, body_radius, band_centre, length; /* length: pixels along the body */
+    int npoints;
+    float *points; /* x, y of the centre line every 4 pixels (malloc'd) */
+} SqPhotoTruth;
+
+SqPhotoOptions sq_fit_photo_options_default(void);
+
+/* Renders the preset's maps onto a snake-like tube lying along a random smooth curve,
+ * lit by a key light and ambient (normal and roughness maps), over a natural backdrop;
+ * then blur, noise and colour cast. photo: sRGB RGB; mask: 1 on the body; truth may be
+ * NULL (else free it with sq_fit_truth_free). */
+SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *o, SqImage *photo,
+                            SqImage *mask, SqPhotoTruth *truth, SqError *err);
+
+void sq_fit_truth_free(SqPhotoTruth *t);
+
 /* ---- colour science (colour.c) ---- */
 
 /* sRGB-encoded RGB in [0,1] to CIELAB (D65). */

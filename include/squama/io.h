@@ -33,19 +33,22 @@ SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt, SqImage *r
                           SqImage *mask, SqError *err);
 
 typedef enum SqImageFormat {
-    SQ_FORMAT_AUTO = 0, /* from the file name's extension (.png, .exr) */
+    SQ_FORMAT_AUTO = 0, /* from the file name's extension (.png, .exr, .jpg/.jpeg) */
     SQ_FORMAT_PNG,
-    SQ_FORMAT_EXR
+    SQ_FORMAT_EXR,
+    SQ_FORMAT_JPEG
 } SqImageFormat;
 
 typedef struct SqWriteOptions {
     SqImageFormat format;
-    int bits; /* PNG: 8 (default) or 16; EXR: 16 (half, default) or 32 (float) */
+    int bits;    /* PNG: 8 (default) or 16; EXR: 16 (half, default) or 32 (float); JPEG: 8 */
+    int quality; /* JPEG: 1..100, 0 = 90 */
 } SqWriteOptions;
 
-/* Writes img atomically. PNG stores sRGB-encoded colour (linear input is encoded),
- * EXR stores linear colour (sRGB input is decoded); SQ_SPACE_DATA is stored as is.
- * Values are clamped to [0,1] for PNG. opt may be NULL (PNG, 8 bits). */
+/* Writes img atomically. PNG and JPEG store sRGB-encoded colour (linear input is
+ * encoded), EXR stores linear colour (sRGB input is decoded); SQ_SPACE_DATA is stored as
+ * is. Values are clamped to [0,1] for PNG and JPEG; JPEG drops alpha. opt may be NULL
+ * (format from the name, 8 bits). */
 SqStatus sq_io_write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
                            SqError *err);
 

@@ -1,0 +1,137 @@
+/* Synthetic photos: deterministic, the mask is where the body is, the body shows the
+ * preset's colours, the truth describes what was drawn. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "sq_test.h"
+#include "squama/fitness.h"
+
+static void photo_of_a_plain_red_snake(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    p.Background_Color[0] = 0.8;
+    p.Background_Color[1] = 0.1;
+    p.Background_Color[2] = 0.1;
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    o.width = 400;
+    o.height = 300;
+    o.seed = 7;
+    o.body_radius = 14;
+    o.view_scale = 1;
+    o.backdrop = SQ_BACKDROP_GRASS;
+    o.texture_size = 128;
+    SqImage photo, mask;
+    SqPhotoTruth t;
+    SqError err;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
+    assert_int_equal(photo.width, 400);
+    assert_int_equal(mask.channels, 1);
+    assert_true(t.body_radius == 14 && t.view_scale == 1);
+    assert_true(t.npoints > 10 && t.length > 200);
+    /* the mask covers about the body's length times its width (less the tapered tail and
+     * where the body crosses itself or leaves the frame) */
+    double area = 0, red_on = 0, red_off = 0, n_off = 0;
+    for (int i = 0; i < 400 * 300; i++) {
+        const float *px = photo.px + 3 * i;
+        float redness = px[0] - 0.5f * (px[1] + px[2]);
+        if (mask.px[i] > 0.5f) {
+            area++;
+            red_on += redness;
+        } else {
+            red_off += redness;
+            n_off++;
+        }
+    }
+    double expect = t.length * 2 * t.body_radius;
+    if (area < 0.45 * expect || area > 1.05 * expect)
+        fail_msg("mask area %.0f, body %.0f", area, expect);
+    assert_true(red_on / area > 0.25);    /* the body is red */
+    assert_true(red_off / n_off < 0.05);  /* the grass is not */
+    /* the truth's centre line runs over the mask */
+    int on = 0, inside = 0;
+    for (int k = 0; k < t.npoints; k++) {
+        int x = (int)t.points[2 * k], y = (int)t.points[2 * k + 1];
+        if (x >= 0 && y >= 0 && x < 400 && y < 300) {
+            inside++;
+            on += mask.px[y * 400 + x] > 0.5f;
+        }
+    }
+    if (on < 0.9 * inside)
+        fail_msg("%d of %d centre-line points on the mask", on, inside);
+
+    /* the same seed, the same photo */
+    SqImage photo2, mask2;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo2, &mask2, NULL, &err), SQ_OK);
+    assert_memory_equal(photo.px, photo2.px, sizeof(float) * 400 * 300 * 3);
+    sq_image_free(&photo2);
+    sq_image_free(&mask2);
+    o.seed = 8;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo2, &mask2, NULL, &err), SQ_OK);
+    double diff = 0;
+    for (int i = 0; i < 400 * 300; i++)
+        diff += fabsf(mask.px[i] - mask2.px[i]);
+    assert_true(diff > 1000); /* another curve */
+    sq_image_free(&photo2);
+    sq_image_free(&mask2);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+    sq_fit_truth_free(&t);
+}
+
+static void degradations_change_the_photo(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    o.width = 200;
+    o.height = 150;
+    o.texture_size = 64;
+    SqImage a, b, m;
+    SqError err;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_OK);
+    sq_image_free(&m);
+    o.noise = 0.05;
+    o.blur = 2;
+    o.cast = 0.5;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &b, &m, NULL, &err), SQ_OK);
+    double d = 0;
+    for (int i = 0; i < 200 * 150 * 3; i++)
+        d += fabsf(a.px[i] - b.px[i]);
+    assert_true(d / (200 * 150 * 3) > 0.02);
+    sq_image_free(&a);
+    sq_image_free(&b);
+    sq_image_free(&m);
+}
+
+static void refusals(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    SqImage a, m;
+    SqError err;
+    o.width = 10;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_ERR_INVALID);
+    assert_null(a.px);
+    o.width = 300;
+    o.body_radius = 200;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "does not fit");
+    o.body_radius = 0;
+    p.Pattern_Type = SQ_PATTERN_COMPLEX;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_ERR_UNSUPPORTED);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(photo_of_a_plain_red_snake),
+        cmocka_unit_test(degradations_change_the_photo),
+        cmocka_unit_test(refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
