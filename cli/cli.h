@@ -3,6 +3,7 @@
 #define SQUAMA_CLI_H
 
 #include "squama/error.h"
+#include "squama/image.h"
 
 /* One command: `squama NAME ...`. */
 typedef struct CliCommand {
@@ -15,6 +16,16 @@ int cmd_params(int argc, char **argv);
 int cmd_presets(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_photo(int argc, char **argv);
+int cmd_prepare(int argc, char **argv);
+int cmd_score(int argc, char **argv);
+
+/* mkdir -p; 0 or -1 with errno. */
+int cli_mkdirs(const char *path);
+
+/* Reads a photo and, when mask_path is set, its mask (white or opaque on the snake, the
+ * photo's size) into a 1-channel image; 0, or -1 with err filled. */
+int cli_load_photo(const char *photo_path, const char *mask_path, SqImage *photo, SqImage *mask,
+                   SqError *err);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

@@ -50,24 +50,6 @@ static int parse_size(const char *s, int *w, int *h)
     return 1;
 }
 
-static int mkdirs(const char *path)
-{
-    char buf[4096];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *c = buf + 1; *c; c++) {
-        if (*c != '/')
-            continue;
-        *c = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return -1;
-        *c = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return -1;
-    struct stat st;
-    return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
-}
-
 static double now_ms(void)
 {
     struct timespec t;
@@ -154,7 +136,7 @@ int cmd_render(int argc, char **argv)
     }
     if (seed >= 0)
         p.Seed = (int)seed;
-    if (mkdirs(outdir) != 0) {
+    if (cli_mkdirs(outdir) != 0) {
         sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the output folder: %s", strerror(errno));
         return cli_fail(&err);
     }

@@ -11,6 +11,8 @@ static const CliCommand commands[] = {
      cmd_presets},
     {"render", "render a preset's basecolor, height, roughness and normal maps", cmd_render},
     {"photo", "a synthetic photo of a preset on a snake body, with mask and truth", cmd_photo},
+    {"prepare", "find the snake in a photo and straighten its body into a strip", cmd_prepare},
+    {"score", "score presets against a photo: objectives and Pareto rank", cmd_score},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

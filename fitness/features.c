@@ -11,7 +11,9 @@
 
 enum { NB = SQ_FIT_HIST_BINS, W = SQ_FIT_STRIP_W, MAX_PALETTE_PX = 1024 };
 static const float A_RANGE = 80.0f; /* a*, b* histogram span: [-80, 80] */
-static const double F_LO = 0.25, F_HI = 32.0; /* spectrum bands, cycles per strip width */
+/* Spectrum bands, in cycles per strip width: up to periods of 8 strip pixels. Finer
+ * detail is the scales' texture, noise and compression, which no candidate models. */
+static const double F_LO = 0.25, F_HI = 8.0;
 
 const char *sq_fit_objective_name(int i)
 {
@@ -107,8 +109,12 @@ static void normalise(float *v, int n)
         v[i] = s > 0 ? (float)(v[i] / s) : 0.0f;
 }
 
+/* Below this share of the energy a sub-band holds only what neither side models: sensor
+ * noise, the fine texture of scales. */
+static const double WAVELET_FLOOR = 3e-3; /* of the total energy */
+
 /* Mean energy per level and orientation of the 2-D Daubechies-4 wavelet transform of
- * 64 x 64 windows along the strip (half-overlapping), as log10. */
+ * 64 x 64 windows along the strip (half-overlapping), as log10 above a floor. */
 static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3])
 {
     gsl_wavelet *wv = gsl_wavelet_alloc(gsl_wavelet_daubechies, 4);
@@ -123,8 +129,9 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
             ok = 0;
             break;
         }
-        /* non-standard layout: detail quadrants of side s at (0,s), (s,0), (s,s) */
-        for (int lvl = 0, s = W / 2; lvl < SQ_FIT_LEVELS; lvl++, s /= 2) {
+        /* non-standard layout: detail quadrants of side s at (0,s), (s,0), (s,s); the
+         * finest level (details of 2 pixels: the scales' texture, noise) is left out */
+        for (int lvl = 0, s = W / 4; lvl < SQ_FIT_LEVELS; lvl++, s /= 2) {
             double q[3] = {0, 0, 0};
             for (int r = 0; r < s; r++)
                 for (int c = 0; c < s; c++) {
@@ -138,9 +145,16 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
         }
         windows++;
     }
+    /* the energies' distribution over levels and orientations (the pattern's contrast is
+     * the colour objectives' business), on a log scale above a floor */
+    double total = 0;
     for (int lvl = 0; lvl < SQ_FIT_LEVELS; lvl++)
         for (int k = 0; k < 3; k++)
-            out[lvl][k] = (float)log10(1e-8 + (windows ? e[lvl][k] / windows : 0));
+            total += windows ? e[lvl][k] / windows : 0;
+    for (int lvl = 0; lvl < SQ_FIT_LEVELS; lvl++)
+        for (int k = 0; k < 3; k++)
+            out[lvl][k] = (float)log10(WAVELET_FLOOR + (windows ? e[lvl][k] / windows : 0) /
+                                                           (total + 12 * WAVELET_FLOOR));
     gsl_wavelet_free(wv);
     gsl_wavelet_workspace_free(ws);
     free(win);
@@ -239,17 +253,21 @@ static double chi2(const float *p, const float *q, int n)
 }
 
 /* A spectrum's shape counts in proportion to how much pattern there is to have a shape;
- * the amount itself is compared on a log scale. */
-static double spectral(const float *bt, const float *bc, double pt, double pc)
+ * the amount is compared as this direction's share of all the pattern's variance, so a
+ * little straightening wobble in a photo of plain stripes costs little. */
+static double spectral(const float *bt, const float *bc, double pt, double pc, double share_t,
+                       double share_c)
 {
-    const double eps = 2e-4; /* variance of a barely visible pattern, (L/100)^2 */
+    const double eps = 1e-3; /* the variance of a barely visible pattern, (L/100)^2 */
     double m = pt < pc ? pt : pc;
-    return m / (m + eps) * chi2(bt, bc, SQ_FIT_BANDS) + fabs(log10((pt + eps) / (pc + eps)));
+    return m / (m + eps) * chi2(bt, bc, SQ_FIT_BANDS) + 2.0 * fabs(share_t - share_c);
 }
 
-/* Earth mover's distance between the two palettes (colour shares as mass, CIEDE2000 as
- * ground distance), by greedy transport: the cheapest remaining pair moves first. Exact
- * when the palettes match; close to the optimum for four colours. */
+static double share(double a, double b)
+{
+    return (a + 5e-4) / (a + b + 1e-3);
+}
+
 static double palette_distance(const SqFeatures *a, const SqFeatures *b)
 {
     enum { K = SQ_FIT_PALETTE };
@@ -294,10 +312,11 @@ void sq_fit_objectives(const SqFeatures *t, const SqFeatures *c, double *out)
         for (int k = 0; k < 3; k++)
             s += fabs(t->wavelet[l][k] - c->wavelet[l][k]);
     out[SQ_OBJ_SHAPE] = s / (SQ_FIT_LEVELS * 3);
-    out[SQ_OBJ_ALONG] = spectral(t->along, c->along, t->along_power, c->along_power);
+    const double st = share(t->along_power, t->across_power), sc = share(c->along_power, c->across_power);
+    out[SQ_OBJ_ALONG] = spectral(t->along, c->along, t->along_power, c->along_power, st, sc);
     double prof = 0;
     for (int i = 0; i < SQ_FIT_PROFILE; i++)
         prof += fabs(t->profile[i] - c->profile[i]);
-    out[SQ_OBJ_ACROSS] = spectral(t->across, c->across, t->across_power, c->across_power) +
+    out[SQ_OBJ_ACROSS] = spectral(t->across, c->across, t->across_power, c->across_power, 1 - st, 1 - sc) +
                          2.0 * prof / SQ_FIT_PROFILE;
 }

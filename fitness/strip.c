@@ -2,15 +2,22 @@
 #include <math.h>
 
 #include "fitness_internal.h"
+#include "squama/io.h"
 
-SqStatus sq_fit_candidate_strip(const SqImage *basecolor, double view_scale, double band_centre,
-                                int length, SqImage *strip, SqError *err)
+/* The key light in the tangent frame (x across, y up the texture, z out). */
+static const float KEY[3] = {-0.35f, 0.55f, 0.76f};
+
+SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal, double view_scale,
+                                double band_centre, int length, SqImage *strip, SqError *err)
 {
     if (!basecolor || !basecolor->px || basecolor->channels < 3)
         return sq_error_set(err, SQ_ERR_INVALID, "strip", "no base colour map");
     if (!(view_scale > 0) || !isfinite(view_scale) || length < SQ_FIT_STRIP_W)
         return sq_error_set(err, SQ_ERR_INVALID, "strip",
                             "view scale %g or strip length %d out of range", view_scale, length);
+    if (normal && (!normal->px || normal->width != basecolor->width ||
+                   normal->height != basecolor->height || normal->channels < 3))
+        return sq_error_set(err, SQ_ERR_INVALID, "strip", "the normal map does not match the base colour");
     if (sq_image_alloc(strip, SQ_FIT_STRIP_W, length, 3, SQ_SPACE_SRGB) != 0)
         return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for a strip");
     const int w = basecolor->width, h = basecolor->height, ch = basecolor->channels;
@@ -40,6 +47,21 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, double view_scale, dou
             for (int k = 0; k < 3; k++) {
                 float top = a[k] + (b[k] - a[k]) * tx, bot = c[k] + (d[k] - c[k]) * tx;
                 o[k] = top + (bot - top) * ty;
+            }
+            if (normal) { /* a key light from above and aside; flat skin keeps its colour */
+                const int nc = normal->channels;
+                const float *n0 = normal->px + ((size_t)y0 * w + xs[i][0]) * nc, *n1 = normal->px + ((size_t)y0 * w + xs[i][1]) * nc;
+                const float *n2 = normal->px + ((size_t)y1 * w + xs[i][0]) * nc, *n3 = normal->px + ((size_t)y1 * w + xs[i][1]) * nc;
+                float n[3];
+                for (int k = 0; k < 3; k++) {
+                    float top = n0[k] + (n1[k] - n0[k]) * tx, bot = n2[k] + (n3[k] - n2[k]) * tx;
+                    n[k] = 2.0f * (top + (bot - top) * ty) - 1.0f;
+                }
+                float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
+                float diff = (n[0] * KEY[0] + n[1] * KEY[1] + n[2] * KEY[2]) / nl;
+                float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) / (0.30f + 0.85f * KEY[2]);
+                for (int k = 0; k < 3; k++)
+                    o[k] = sq_io_linear_to_srgb(fminf(1.0f, sq_io_srgb_to_linear(o[k]) * shade));
             }
         }
     }

@@ -130,4 +130,29 @@ fi
 run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/pv" --size 64 --preview
 check "render --preview" 0 out "wrote $TMP/r/pv/preview.png"
 
+# prepare and score (on the synthetic photo above)
+run prepare "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/prep" --debug
+check "prepare" 0 out "given mask, body"
+for f in mask.png strip.png prepared.json debug/4_centre_line.png debug/6_strip.png; do
+  [ -s "$TMP/prep/$f" ] || { echo "FAIL: prepare did not write $f"; fails=$((fails + 1)); }
+done
+run prepare "$TMP/p.jpg" --mask "$SRC/tests/data/orient6.jpg" -o "$TMP/prep2"
+check "prepare mask of another size" 1 err "the mask is 4x8 but the photo is 320x240"
+run prepare "$TMP/none.jpg" -o "$TMP/prep3"; check "prepare missing photo" 1 err "cannot open image"
+run score "$TMP/p.jpg"; check "score without presets" 2 err "give a PHOTO and at least one PRESET"
+run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$SRC/presets/thesis/table_4_4_spots.json" "$SRC/presets/thesis/table_4_2_micrurus_altirostris.json"
+check "score table" 0 out "palette histogram     shape     along    across  preset" out "table_4_4_spots.json"
+run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" --json "$SRC/presets/thesis/table_4_4_spots.json" "$SRC/presets/thesis/table_4_3_longitudinal.json"
+check "score --json" 0 out '"rank": 0'
+if command -v python3 >/dev/null; then
+  python3 - "$out" <<'PY' || { echo "FAIL: score --json content"; fails=$((fails + 1)); }
+import json, sys
+rows = json.load(open(sys.argv[1]))
+assert [r["preset"].split("/")[-1] for r in rows] == ["table_4_4_spots.json", "table_4_3_longitudinal.json"]
+assert set(rows[0]["objectives"]) == {"palette", "histogram", "shape", "along", "across"}
+assert rows[0]["rank"] == 0 and rows[0]["view_scale"] > 0
+PY
+fi
+run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$TMP/typo.json"; check "score bad preset" 1 err "unknown key"
+
 [ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

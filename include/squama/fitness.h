@@ -70,12 +70,64 @@ SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures 
 /* The objectives vector (SQ_OBJ_COUNT values, lower is better, 0 for identical features). */
 void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, double *out);
 
-/* A candidate's strip from its base colour map: SQ_FIT_STRIP_W columns across the band
- * centred on u = band_centre, `length` rows along v. view_scale is the number of body
+/* A candidate's strip from its maps: SQ_FIT_STRIP_W columns across the band centred on
+ * u = band_centre, `length` rows along v. view_scale is the number of body
  * circumferences one texture tile spans along the body (the UV layout's repeat): rows
- * step by band_width / SQ_FIT_STRIP_W / view_scale in v. */
-SqStatus sq_fit_candidate_strip(const SqImage *basecolor, double view_scale, double band_centre,
-                                int length, SqImage *strip, SqError *err);
+ * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With a normal map the base
+ * colour is shaded by a key light as a photo would show the scales (a flat surface keeps
+ * its colour); normal may be NULL. */
+SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal, double view_scale,
+                                double band_centre, int length, SqImage *strip, SqError *err);
+
+/* ---- scoring a preset against a target (score.c) ---- */
+
+enum { SQ_FIT_SCALES = 16 }; /* view scales tried: 0.25 * 2^(i/3), 0.25 to 8 */
+
+/* The view scale of grid step i. */
+double sq_fit_scale_at(int i);
+
+/* Renders p's base colour at size x size and scores it against the target's features
+ * at every view scale of the grid, keeping the scale where the scale-dependent
+ * objectives (shape, along) are lowest: objectives (SQ_OBJ_COUNT) and *view_scale.
+ * maps may be NULL, or reused between calls; best_strip (may be NULL) receives the strip
+ * at the chosen scale. */
+SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, double band_centre,
+                      SqTextures *maps, double *objectives, double *view_scale, SqImage *best_strip,
+                      SqError *err);
+
+/* ---- photo preparation (prep.c) ---- */
+
+typedef enum SqMaskSource { SQ_MASK_GIVEN, SQ_MASK_ALPHA, SQ_MASK_AUTOMATIC } SqMaskSource;
+
+typedef struct SqPrepOptions {
+    int work_size;          /* longest side the photo is prepared at (default 1024) */
+    const char *debug_dir;  /* when set, every step is saved there as an image */
+} SqPrepOptions;
+
+typedef struct SqPrepared {
+    SqImage photo;          /* the photo at working size, sRGB RGB */
+    SqImage mask;           /* the cleaned mask at working size (save it to correct it) */
+    SqImage strip;          /* the straightened body: SQ_FIT_STRIP_W wide, light-normalised */
+    SqImage valid;          /* strip pixels that show the body */
+    SqMaskSource mask_source;
+    double scale;           /* working size / original size */
+    double body_width;      /* median body width, pixels of the original photo */
+    double length;          /* length of the straightened run, pixels of the original */
+    int npoints;
+    float *centre;          /* the run's centre line, x, y in pixels of the original */
+} SqPrepared;
+
+SqPrepOptions sq_fit_prep_options_default(void);
+
+/* Prepares a photo (sRGB, 3 or 4 channels) with an optional mask (1 channel, the same
+ * size; NULL: the photo's alpha if it has one, else made automatically by GrabCut):
+ * cleans the mask, follows the centre line of its longest clean run, resamples the body
+ * across at asin-spaced angles within +-60 degrees into a strip, and divides out
+ * large-scale shading. */
+SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepOptions *o,
+                        SqPrepared *out, SqError *err);
+
+void sq_fit_prepared_free(SqPrepared *p);
 
 /* ---- synthetic photos with ground truth (synth.c) ---- */
 

@@ -1,0 +1,183 @@
+/* squama prepare: a photo's mask, centre line and straightened strip, for looking at
+ * (and for correcting the mask). */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+#include "json_util.h"
+#include "squama/fitness.h"
+#include "squama/io.h"
+
+static const char help[] =
+    "usage: squama prepare PHOTO [--mask MASK] -o DIR [--debug]\n"
+    "\n"
+    "Finds the snake in PHOTO (MASK if given: white on the snake, the photo's size; else\n"
+    "the photo's alpha; else an automatic GrabCut), follows the body's centre line and\n"
+    "straightens the longest clean stretch of it into a strip, with the light evened out.\n"
+    "Writes DIR/mask.png (the photo's size: correct it and pass it back with --mask),\n"
+    "DIR/strip.png, DIR/prepared.json (body width, length, mask source) and, with --debug,\n"
+    "every step as an image in DIR/debug/.\n"
+    "\n"
+    "options:\n"
+    "  -m, --mask MASK      the snake's mask\n"
+    "  -o, --output DIR     where to write\n"
+    "      --work-size N    longest side the photo is prepared at (default 1024)\n"
+    "      --debug          save each step\n"
+    "  -h, --help           show this help\n";
+
+/* Makes dir and its parents (like mkdir -p). */
+int cli_mkdirs(const char *path)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *c = buf + 1; *c; c++) {
+        if (*c != '/')
+            continue;
+        *c = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *c = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return -1;
+    struct stat st;
+    return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+}
+
+int cli_load_photo(const char *photo_path, const char *mask_path, SqImage *photo, SqImage *mask,
+                   SqError *err)
+{
+    memset(mask, 0, sizeof *mask);
+    if (sq_io_read_image(photo_path, NULL, photo, NULL, err) != SQ_OK)
+        return -1;
+    if (mask_path) {
+        SqImage m;
+        if (sq_io_read_image(mask_path, NULL, &m, NULL, err) != SQ_OK) {
+            sq_image_free(photo);
+            return -1;
+        }
+        if (m.width != photo->width || m.height != photo->height) {
+            sq_error_set(err, SQ_ERR_INVALID, mask_path, "the mask is %dx%d but the photo is %dx%d",
+                         m.width, m.height, photo->width, photo->height);
+            sq_image_free(&m);
+            sq_image_free(photo);
+            return -1;
+        }
+        /* white (or opaque) marks the snake */
+        if (sq_image_alloc(mask, m.width, m.height, 1, SQ_SPACE_DATA) != 0) {
+            sq_error_set(err, SQ_ERR_NOMEM, mask_path, "out of memory");
+            sq_image_free(&m);
+            sq_image_free(photo);
+            return -1;
+        }
+        for (size_t i = 0; i < (size_t)m.width * m.height; i++)
+            mask->px[i] = (m.px[4 * i] + m.px[4 * i + 1] + m.px[4 * i + 2]) / 3 * m.px[4 * i + 3] >= 0.5f;
+        sq_image_free(&m);
+    }
+    return 0;
+}
+
+int cmd_prepare(int argc, char **argv)
+{
+    enum { O_WORK = 1000, O_DEBUG };
+    static const struct option opts[] = {{"mask", required_argument, NULL, 'm'},
+                                         {"output", required_argument, NULL, 'o'},
+                                         {"work-size", required_argument, NULL, O_WORK},
+                                         {"debug", no_argument, NULL, O_DEBUG},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    const char *mask_path = NULL, *outdir = NULL;
+    int debug = 0, c;
+    SqPrepOptions po = sq_fit_prep_options_default();
+    optind = 0;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "hm:o:", opts, NULL)) != -1) {
+        char *end;
+        switch (c) {
+        case 'm': mask_path = optarg; break;
+        case 'o': outdir = optarg; break;
+        case O_WORK:
+            po.work_size = (int)strtol(optarg, &end, 10);
+            if (*end || po.work_size < 128 || po.work_size > 8192)
+                return cli_usage("prepare", "--work-size must be 128 to 8192, got '%s'", optarg);
+            break;
+        case O_DEBUG: debug = 1; break;
+        case 'h': fputs(help, stdout); return CLI_OK;
+        default:
+            if (optopt && strchr("mo", optopt))
+                return cli_usage("prepare", "-%c needs a value", optopt);
+            return cli_usage("prepare", "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (argc - optind != 1)
+        return cli_usage("prepare", "give exactly one PHOTO");
+    if (!outdir)
+        return cli_usage("prepare", "say where to write with -o DIR");
+    SqError err;
+    char dbg[4096];
+    snprintf(dbg, sizeof dbg, "%s/debug", outdir);
+    if (cli_mkdirs(debug ? dbg : outdir) != 0) {
+        sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the folder: %s", strerror(errno));
+        return cli_fail(&err);
+    }
+    if (debug)
+        po.debug_dir = dbg;
+    SqImage photo, mask;
+    if (cli_load_photo(argv[optind], mask_path, &photo, &mask, &err) != 0)
+        return cli_fail(&err);
+    SqPrepared prep;
+    SqStatus st = sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err);
+    int rc = CLI_OK;
+    if (st != SQ_OK) {
+        rc = cli_fail(&err);
+    } else {
+        char path[4096];
+        SqImage full;
+        /* the mask at the photo's size, to correct and pass back */
+        if (sq_image_alloc(&full, photo.width, photo.height, 1, SQ_SPACE_DATA) == 0) {
+            for (int y = 0; y < photo.height; y++)
+                for (int x = 0; x < photo.width; x++) {
+                    int mx = (int)((x + 0.5) * prep.scale), my = (int)((y + 0.5) * prep.scale);
+                    mx = mx >= prep.mask.width ? prep.mask.width - 1 : mx;
+                    my = my >= prep.mask.height ? prep.mask.height - 1 : my;
+                    *sq_image_at(&full, x, y) = *sq_image_at(&prep.mask, mx, my);
+                }
+            snprintf(path, sizeof path, "%s/mask.png", outdir);
+            if (sq_io_write_image(path, &full, NULL, &err) != SQ_OK)
+                rc = cli_fail(&err);
+            sq_image_free(&full);
+        }
+        snprintf(path, sizeof path, "%s/strip.png", outdir);
+        if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
+            rc = cli_fail(&err);
+        static const char *const src[] = {"given", "alpha", "automatic"};
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "photo", argv[optind]);
+        cJSON_AddStringToObject(o, "mask_source", src[prep.mask_source]);
+        cJSON_AddNumberToObject(o, "body_width", prep.body_width);
+        cJSON_AddNumberToObject(o, "length", prep.length);
+        cJSON_AddNumberToObject(o, "strip_rows", prep.strip.height);
+        char *text = sq__json_print(o);
+        cJSON_Delete(o);
+        snprintf(path, sizeof path, "%s/prepared.json", outdir);
+        if (rc == CLI_OK && (!text || sq_io_write_file(path, text, strlen(text), &err) != SQ_OK))
+            rc = cli_fail(&err);
+        free(text);
+        if (rc == CLI_OK)
+            printf("%s: %s mask, body %.0f px wide, %.0f px of it straightened into a %dx%d strip\n",
+                   argv[optind], src[prep.mask_source], prep.body_width, prep.length, prep.strip.width,
+                   prep.strip.height);
+        sq_fit_prepared_free(&prep);
+    }
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+    return rc;
+}

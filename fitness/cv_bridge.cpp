@@ -1,0 +1,100 @@
+// OpenCV behind a C interface for photo preparation. Exceptions stop here.
+#include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc.hpp>
+
+#include <cstring>
+
+#include "cv_bridge.h"
+
+extern "C" int sq__cv_resize(const float *src, int sw, int sh, int ch, float *dst, int dw, int dh)
+{
+    try {
+        cv::Mat in(sh, sw, CV_32FC(ch), const_cast<float *>(src));
+        cv::Mat out(dh, dw, CV_32FC(ch), dst);
+        cv::resize(in, out, cv::Size(dw, dh), 0, 0, dw < sw ? cv::INTER_AREA : cv::INTER_LINEAR);
+        return out.data == reinterpret_cast<uchar *>(dst) ? 0 : -1;
+    } catch (...) {
+        return -1;
+    }
+}
+
+extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask)
+{
+    try {
+        cv::Mat f(h, w, CV_32FC3, const_cast<float *>(rgb)), img;
+        f.convertTo(img, CV_8UC3, 255.0);
+        cv::Mat m(h, w, CV_8UC1), bgd, fgd;
+        int dx = (int)(inset * w), dy = (int)(inset * h);
+        cv::Rect rect(dx, dy, w - 2 * dx, h - 2 * dy);
+        cv::grabCut(img, m, rect, bgd, fgd, 5, cv::GC_INIT_WITH_RECT);
+        for (int i = 0; i < w * h; i++)
+            mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
+        return 0;
+    } catch (...) {
+        return -1;
+    }
+}
+
+extern "C" int sq__cv_clean_mask(uint8_t *mask, int w, int h, int radius, double max_hole)
+{
+    try {
+        cv::Mat m(h, w, CV_8UC1, mask);
+        if (radius > 0) {
+            cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+            cv::morphologyEx(m, m, cv::MORPH_OPEN, k);
+            cv::morphologyEx(m, m, cv::MORPH_CLOSE, k);
+        }
+        cv::Mat labels, stats, centroids;
+        int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
+        int best = 0, area = 0;
+        for (int i = 1; i < n; i++)
+            if (stats.at<int>(i, cv::CC_STAT_AREA) > area) {
+                area = stats.at<int>(i, cv::CC_STAT_AREA);
+                best = i;
+            }
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+                mask[y * w + x] = best > 0 && labels.at<int>(y, x) == best ? 255 : 0;
+        /* small holes: background not reachable from the border, and small (a loop of
+         * the body around the ground is not a hole) */
+        cv::Mat inv = 255 - m, hl, hs, hc;
+        int nh = cv::connectedComponentsWithStats(inv, hl, hs, hc, 4, CV_32S);
+        for (int i = 1; i < nh; i++) {
+            int x0 = hs.at<int>(i, cv::CC_STAT_LEFT), y0 = hs.at<int>(i, cv::CC_STAT_TOP);
+            int x1 = x0 + hs.at<int>(i, cv::CC_STAT_WIDTH), y1 = y0 + hs.at<int>(i, cv::CC_STAT_HEIGHT);
+            bool border = x0 == 0 || y0 == 0 || x1 == w || y1 == h;
+            if (border || hs.at<int>(i, cv::CC_STAT_AREA) > max_hole)
+                continue;
+            for (int y = y0; y < y1; y++)
+                for (int x = x0; x < x1; x++)
+                    if (hl.at<int>(y, x) == i)
+                        mask[y * w + x] = 255;
+        }
+        return n > 0 ? n - 1 : 0;
+    } catch (...) {
+        return -1;
+    }
+}
+
+extern "C" int sq__cv_distance(const uint8_t *mask, int w, int h, float *dist)
+{
+    try {
+        cv::Mat m(h, w, CV_8UC1, const_cast<uint8_t *>(mask)), d(h, w, CV_32FC1, dist);
+        cv::distanceTransform(m, d, cv::DIST_L2, cv::DIST_MASK_5);
+        return d.data == reinterpret_cast<uchar *>(dist) ? 0 : -1;
+    } catch (...) {
+        return -1;
+    }
+}
+
+extern "C" int sq__cv_thin(const uint8_t *mask, int w, int h, uint8_t *skeleton)
+{
+    try {
+        cv::Mat m(h, w, CV_8UC1, const_cast<uint8_t *>(mask)), s;
+        cv::ximgproc::thinning(m, s, cv::ximgproc::THINNING_ZHANGSUEN);
+        std::memcpy(skeleton, s.data, (size_t)w * h);
+        return 0;
+    } catch (...) {
+        return -1;
+    }
+}

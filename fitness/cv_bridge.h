@@ -1,0 +1,34 @@
+/* The OpenCV calls of photo preparation, behind a C interface (cv_bridge.cpp). Every
+ * function returns 0, or -1 when OpenCV failed or memory ran out. Masks are 8-bit, 0 or
+ * 255, row-major w x h. */
+#ifndef SQUAMA_CV_BRIDGE_H
+#define SQUAMA_CV_BRIDGE_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Resizes an interleaved float image (area averaging when shrinking). */
+int sq__cv_resize(const float *src, int sw, int sh, int ch, float *dst, int dw, int dh);
+
+/* Foreground by GrabCut, started from a rectangle inset by `inset` of each side. */
+int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask);
+
+/* Opening and closing with a disc of `radius`, the largest connected component kept,
+ * its holes of at most max_hole pixels filled. Returns the number of components found
+ * before keeping one (>= 0). */
+int sq__cv_clean_mask(uint8_t *mask, int w, int h, int radius, double max_hole);
+
+/* Euclidean distance of every mask pixel to the nearest background pixel. */
+int sq__cv_distance(const uint8_t *mask, int w, int h, float *dist);
+
+/* Zhang-Suen thinning to a one-pixel skeleton. */
+int sq__cv_thin(const uint8_t *mask, int w, int h, uint8_t *skeleton);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

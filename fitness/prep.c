@@ -1,0 +1,615 @@
+/* Photo preparation: mask, centre line, straightening, light (see squama/fitness.h).
+ *
+ * The centre line is the longest path through the mask's skeleton; where the body is
+ * much wider or thinner than its median (crossings, touching parts, the tail) the path is
+ * not trusted, and the longest run of trusted path is straightened. Across the body the
+ * photo is sampled at d = r sin(theta) for theta evenly spaced in +-60 degrees, so the
+ * strip's columns are equal lengths of skin; along it, rows are the same length apart. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cv_bridge.h"
+#include "fitness_internal.h"
+#include "gen_internal.h"
+#include "squama/io.h"
+
+#define THETA_MAX (M_PI * SQ_FIT_BAND_WIDTH) /* half the band: 60 degrees */
+
+SqPrepOptions sq_fit_prep_options_default(void)
+{
+    SqPrepOptions o = {.work_size = 1024, .debug_dir = NULL};
+    return o;
+}
+
+void sq_fit_prepared_free(SqPrepared *p)
+{
+    if (!p)
+        return;
+    sq_image_free(&p->photo);
+    sq_image_free(&p->mask);
+    sq_image_free(&p->strip);
+    sq_image_free(&p->valid);
+    free(p->centre);
+    memset(p, 0, sizeof *p);
+}
+
+static void debug_save(const SqPrepOptions *o, const char *name, const SqImage *img)
+{
+    if (!o->debug_dir || !img->px)
+        return;
+    char path[4096];
+    SqError err;
+    snprintf(path, sizeof path, "%s/%s", o->debug_dir, name);
+    if (sq_io_write_image(path, img, NULL, &err) != SQ_OK)
+        fprintf(stderr, "squama: cannot save a debug image: %s (%s)\n", err.what, err.where);
+}
+
+/* The longest path (in pixels) through the skeleton: the farthest pixel from any pixel,
+ * then the farthest from that one (exact for a tree). Returns the path's length and its
+ * pixel indices in path (malloc'd). */
+static int longest_path(const uint8_t *skel, int w, int h, int **path)
+{
+    *path = NULL;
+    int n = w * h, start = -1;
+    for (int i = 0; i < n && start < 0; i++)
+        if (skel[i])
+            start = i;
+    if (start < 0)
+        return 0;
+    int *dist = malloc(sizeof(int) * (size_t)n), *parent = malloc(sizeof(int) * (size_t)n);
+    int *queue = malloc(sizeof(int) * (size_t)n);
+    if (!dist || !parent || !queue) {
+        free(dist);
+        free(parent);
+        free(queue);
+        return -1;
+    }
+    int far = start;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < n; i++)
+            dist[i] = -1;
+        int head = 0, tail = 0;
+        queue[tail++] = far;
+        dist[far] = 0;
+        parent[far] = -1;
+        int last = far;
+        while (head < tail) {
+            int k = queue[head++], x = k % w, y = k / w;
+            last = k;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int xx = x + dx, yy = y + dy;
+                    if ((!dx && !dy) || xx < 0 || yy < 0 || xx >= w || yy >= h)
+                        continue;
+                    int q = yy * w + xx;
+                    if (skel[q] && dist[q] < 0) {
+                        dist[q] = dist[k] + 1;
+                        parent[q] = k;
+                        queue[tail++] = q;
+                    }
+                }
+        }
+        far = last; /* BFS visits in order of distance: the last is the farthest */
+    }
+    int len = dist[far] + 1;
+    *path = malloc(sizeof(int) * (size_t)len);
+    if (*path)
+        for (int k = far, i = len - 1; k >= 0 && i >= 0; k = parent[k], i--)
+            (*path)[i] = k;
+    free(dist);
+    free(parent);
+    free(queue);
+    return *path ? len : -1;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Gaussian smoothing of a 1-D signal, the ends clamped. */
+static void smooth1d(float *v, int n, double sigma)
+{
+    if (sigma < 0.5 || n < 2)
+        return;
+    int rad = (int)ceil(3 * sigma);
+    float *out = malloc(sizeof(float) * (size_t)n);
+    if (!out)
+        return;
+    for (int i = 0; i < n; i++) {
+        double s = 0, ws = 0;
+        for (int k = -rad; k <= rad; k++) {
+            int j = i + k < 0 ? 0 : (i + k >= n ? n - 1 : i + k);
+            double wgt = exp(-0.5 * k * k / (sigma * sigma));
+            s += wgt * v[j];
+            ws += wgt;
+        }
+        out[i] = (float)(s / ws);
+    }
+    memcpy(v, out, sizeof(float) * (size_t)n);
+    free(out);
+}
+
+/* The photo with the skeleton (red), its longest path (yellow) and the straightened run
+ * (green). */
+static void debug_centre_line(const SqPrepOptions *o, const SqImage *photo, const uint8_t *skel,
+                              const int *path, int n, int run0, int runn)
+{
+    if (!o->debug_dir)
+        return;
+    const int w = photo->width, h = photo->height;
+    SqImage ov;
+    if (sq_image_alloc(&ov, w, h, 3, SQ_SPACE_SRGB) != 0)
+        return;
+    memcpy(ov.px, photo->px, sizeof(float) * 3 * (size_t)w * h);
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        if (skel[i]) {
+            ov.px[3 * i] = 1;
+            ov.px[3 * i + 1] = ov.px[3 * i + 2] = 0;
+        }
+    for (int i = 0; i < n; i++) {
+        int inrun = i >= run0 && i < run0 + runn, x = path[i] % w, y = path[i] / w;
+        for (int k = -inrun; k <= inrun; k++)
+            for (int l = -inrun; l <= inrun; l++)
+                if (x + l >= 0 && y + k >= 0 && x + l < w && y + k < h) {
+                    float *p3 = ov.px + 3 * ((size_t)(y + k) * w + x + l);
+                    p3[0] = inrun ? 0.0f : 1.0f;
+                    p3[1] = 1;
+                    p3[2] = 0;
+                }
+    }
+    debug_save(o, "4_centre_line.png", &ov);
+    sq_image_free(&ov);
+}
+
+/* What a mask says about the body: cleaned, its distance map and skeleton, the longest
+ * skeleton path, the median radius and the longest run of trusted path. */
+typedef struct Body {
+    uint8_t *m8;
+    float *dist;
+    uint8_t *skel;
+    int *path, n;
+    double r;
+    int run0, runn;
+    SqStatus st;
+    char why[256];
+} Body;
+
+static void body_free(Body *b)
+{
+    free(b->m8);
+    free(b->dist);
+    free(b->skel);
+    free(b->path);
+    memset(b, 0, sizeof *b);
+}
+
+/* Analyses b->m8 (w x h, 0/255) in place. On failure b->st and b->why say why. */
+static void analyse(Body *b, int w, int h)
+{
+    size_t area = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        area += b->m8[i] != 0;
+    b->dist = malloc(sizeof(float) * (size_t)w * h);
+    b->skel = malloc((size_t)w * h);
+    b->st = SQ_OK;
+#define WHY(code, ...)                                           \
+    do {                                                         \
+        b->st = code;                                            \
+        snprintf(b->why, sizeof b->why, __VA_ARGS__);            \
+        return;                                                  \
+    } while (0)
+    if (!b->dist || !b->skel)
+        WHY(SQ_ERR_NOMEM, "out of memory");
+    /* clean-up: small specks and holes, one body */
+    const int side = w > h ? w : h;
+    if (sq__cv_clean_mask(b->m8, w, h, side / 300 > 1 ? side / 300 : 1, area * 0.01) < 0)
+        WHY(SQ_ERR_INTERNAL, "OpenCV could not clean the mask");
+    /* distance to the edge, skeleton, its longest path */
+    if (sq__cv_distance(b->m8, w, h, b->dist) || sq__cv_thin(b->m8, w, h, b->skel))
+        WHY(SQ_ERR_INTERNAL, "OpenCV could not find the body's centre line");
+    b->n = longest_path(b->skel, w, h, &b->path);
+    if (b->n < 0)
+        WHY(SQ_ERR_NOMEM, "out of memory following the centre line");
+    if (b->n < 16)
+        WHY(SQ_ERR_INVALID, "the masked shape has no centre line to follow: is it a snake?");
+    float *radii = malloc(sizeof(float) * (size_t)b->n);
+    if (!radii)
+        WHY(SQ_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < b->n; i++)
+        radii[i] = b->dist[b->path[i]];
+    qsort(radii, (size_t)b->n, sizeof(float), cmp_float);
+    b->r = radii[b->n / 2] + 0.5; /* the distance is to the nearest background pixel centre */
+    free(radii);
+    if (b->r < 3)
+        WHY(SQ_ERR_INVALID, "the body is %.1f pixels wide at %d px: too thin to see a pattern", 2 * b->r, side);
+    /* the longest run of trusted centre line: not where the body is much wider than usual
+     * (a crossing) or thinner (touching parts, the tail), nor within a radius of it */
+    const int n = b->n;
+    const double r = b->r;
+    int *bad = calloc((size_t)n, sizeof(int));
+    if (!bad)
+        WHY(SQ_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < n; i++) {
+        float d = b->dist[b->path[i]];
+        if (d > 1.3 * r || d < 0.6 * r) {
+            int lo = i - (int)r < 0 ? 0 : i - (int)r, hi = i + (int)r >= n ? n - 1 : i + (int)r;
+            for (int k = lo; k <= hi; k++)
+                bad[k] = 1;
+        }
+    }
+    for (int i = 0; i < n;) {
+        if (bad[i]) {
+            i++;
+            continue;
+        }
+        int j = i;
+        while (j < n && !bad[j])
+            j++;
+        if (j - i > b->runn) {
+            b->runn = j - i;
+            b->run0 = i;
+        }
+        i = j;
+    }
+    free(bad);
+    if (b->runn < 8)
+        WHY(SQ_ERR_INVALID, "no clean stretch of body: it crosses or touches itself everywhere");
+#undef WHY
+}
+
+static SqStatus fail(SqPrepared *out, SqStatus st)
+{
+    sq_fit_prepared_free(out);
+    return st;
+}
+
+/* Divides out the light: across, a smooth quadratic in theta fitted to the log of the
+ * column medians (the round body's shading); along, the luminance averaged over a strip
+ * width. Patterns finer than the strip's width keep their contrast. */
+static void normalise_light(SqImage *strip, const SqImage *valid)
+{
+    enum { W = SQ_FIT_STRIP_W };
+    const int n = strip->height;
+    float *lum = malloc(sizeof(float) * (size_t)n * W), *col = malloc(sizeof(float) * (size_t)n);
+    float *row = malloc(sizeof(float) * (size_t)n);
+    if (!lum || !col || !row) {
+        free(lum);
+        free(col);
+        free(row);
+        return;
+    }
+    for (int i = 0; i < n * W; i++) {
+        const float *p = strip->px + 3 * (size_t)i;
+        lum[i] = 0.2126f * sq_io_srgb_to_linear(p[0]) + 0.7152f * sq_io_srgb_to_linear(p[1]) +
+                 0.0722f * sq_io_srgb_to_linear(p[2]) + 1e-4f;
+    }
+    /* across: least squares of log median = a + b t + c t^2 */
+    double S[5] = {0}, T[3] = {0};
+    for (int x = 0; x < W; x++) {
+        int m = 0;
+        for (int y = 0; y < n; y++)
+            if (valid->px[(size_t)y * W + x] > 0.5f)
+                col[m++] = lum[(size_t)y * W + x];
+        if (m < 8)
+            continue;
+        qsort(col, (size_t)m, sizeof(float), cmp_float);
+        double t = (x + 0.5) / W * 2 - 1, lv = log(col[m / 2]);
+        double tp = 1;
+        for (int k = 0; k < 5; k++, tp *= t)
+            S[k] += tp;
+        T[0] += lv;
+        T[1] += lv * t;
+        T[2] += lv * t * t;
+    }
+    double coef[3] = {0, 0, 0};
+    {
+        /* 3 x 3 normal equations, Cramer's rule */
+        double A[3][3] = {{S[0], S[1], S[2]}, {S[1], S[2], S[3]}, {S[2], S[3], S[4]}};
+        double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+        if (fabs(det) > 1e-12)
+            for (int k = 0; k < 3; k++) {
+                double B[3][3];
+                memcpy(B, A, sizeof B);
+                for (int r = 0; r < 3; r++)
+                    B[r][k] = T[r];
+                coef[k] = (B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) -
+                           B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+                           B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0])) / det;
+            }
+    }
+    double colf[W], mean = 0;
+    for (int x = 0; x < W; x++) {
+        double t = (x + 0.5) / W * 2 - 1;
+        colf[x] = exp(coef[1] * t + coef[2] * t * t);
+        mean += colf[x] / W;
+    }
+    /* along: the mean luminance per row (after the across correction), smoothed */
+    double total = 0;
+    int tn = 0;
+    for (int y = 0; y < n; y++) {
+        double s = 0;
+        int m = 0;
+        for (int x = 0; x < W; x++)
+            if (valid->px[(size_t)y * W + x] > 0.5f) {
+                s += lum[(size_t)y * W + x] / (colf[x] / mean);
+                m++;
+            }
+        row[y] = m ? (float)(s / m) : -1.0f;
+        if (m) {
+            total += row[y];
+            tn++;
+        }
+    }
+    const float gmean = tn ? (float)(total / tn) : 1.0f;
+    for (int y = 0; y < n; y++)
+        if (row[y] < 0)
+            row[y] = gmean;
+    smooth1d(row, n, W);
+    for (int y = 0; y < n; y++)
+        for (int x = 0; x < W; x++) {
+            float k = (float)(gmean / (row[y] * (colf[x] / mean)));
+            float *p = strip->px + 3 * ((size_t)y * W + x);
+            for (int c = 0; c < 3; c++)
+                p[c] = sq__clamp01(sq_io_linear_to_srgb(sq_io_srgb_to_linear(p[c]) * k));
+        }
+    free(lum);
+    free(col);
+    free(row);
+}
+
+SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPrepOptions *opt,
+                        SqPrepared *out, SqError *err)
+{
+    memset(out, 0, sizeof *out);
+    SqPrepOptions o = opt ? *opt : sq_fit_prep_options_default();
+    if (o.work_size < 64)
+        o.work_size = 1024;
+    if (!photo || !photo->px || photo->channels < 3)
+        return sq_error_set(err, SQ_ERR_INVALID, "photo", "no colour photo");
+    const int W0 = photo->width, H0 = photo->height;
+    if (W0 < 64 || H0 < 64)
+        return sq_error_set(err, SQ_ERR_INVALID, "photo", "the photo is %dx%d: too small to show a snake (64x64 at least)", W0, H0);
+    if (mask_in && (mask_in->width != W0 || mask_in->height != H0))
+        return sq_error_set(err, SQ_ERR_INVALID, "mask", "the mask is %dx%d but the photo is %dx%d",
+                            mask_in ? mask_in->width : 0, mask_in ? mask_in->height : 0, W0, H0);
+
+    /* 1. working size */
+    const double scale = fmin(1.0, (double)o.work_size / (W0 > H0 ? W0 : H0));
+    const int w = (int)lround(W0 * scale) > 32 ? (int)lround(W0 * scale) : 32;
+    const int h = (int)lround(H0 * scale) > 32 ? (int)lround(H0 * scale) : 32;
+    out->scale = scale;
+    float *rgb0 = malloc(sizeof(float) * 3 * (size_t)W0 * H0);
+    uint8_t *m8 = malloc((size_t)w * h);
+    Body body = {0};
+    float *px = NULL, *py = NULL, *pr = NULL;
+    SqStatus st = SQ_OK;
+#define FAIL(...)                                    \
+    do {                                             \
+        st = sq_error_set(err, __VA_ARGS__);         \
+        goto done;                                   \
+    } while (0)
+    if (!rgb0 || !m8 || sq_image_alloc(&out->photo, w, h, 3, SQ_SPACE_SRGB) ||
+        sq_image_alloc(&out->mask, w, h, 1, SQ_SPACE_DATA))
+        FAIL(SQ_ERR_NOMEM, "photo", "out of memory preparing a %dx%d photo", W0, H0);
+    for (size_t i = 0; i < (size_t)W0 * H0; i++)
+        for (int c = 0; c < 3; c++)
+            rgb0[3 * i + c] = photo->px[i * photo->channels + c];
+    if (sq__cv_resize(rgb0, W0, H0, 3, out->photo.px, w, h))
+        FAIL(SQ_ERR_INTERNAL, "photo", "OpenCV could not resize the photo");
+    debug_save(&o, "1_photo.png", &out->photo);
+
+    /* 2. the mask: given, from alpha, or by GrabCut */
+    int have_alpha = 0;
+    if (!mask_in && photo->channels == 4)
+        for (size_t i = 0; i < (size_t)W0 * H0 && !have_alpha; i++)
+            have_alpha = photo->px[4 * i + 3] < 0.5f;
+    static const char *const source_name[] = {"the given mask", "the photo's alpha", "the automatic mask"};
+    const int side = w > h ? w : h;
+    if (mask_in || have_alpha) {
+        float *m0 = malloc(sizeof(float) * (size_t)W0 * H0), *m1 = malloc(sizeof(float) * (size_t)w * h);
+        if (!m0 || !m1) {
+            free(m0);
+            free(m1);
+            FAIL(SQ_ERR_NOMEM, "mask", "out of memory for the mask");
+        }
+        for (size_t i = 0; i < (size_t)W0 * H0; i++)
+            m0[i] = mask_in ? mask_in->px[i * mask_in->channels] : photo->px[4 * i + 3];
+        int bad = sq__cv_resize(m0, W0, H0, 1, m1, w, h);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            m8[i] = m1[i] >= 0.5f ? 255 : 0;
+        free(m0);
+        free(m1);
+        if (bad)
+            FAIL(SQ_ERR_INTERNAL, "mask", "OpenCV could not resize the mask");
+        out->mask_source = mask_in ? SQ_MASK_GIVEN : SQ_MASK_ALPHA;
+        size_t area = 0;
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            area += m8[i] != 0;
+        const char *src = source_name[out->mask_source];
+        if (area < (size_t)w * h / 500)
+            FAIL(SQ_ERR_INVALID, "mask", "%s covers %.2f%% of the photo: no snake to see", src,
+                 100.0 * area / ((double)w * h));
+        if (area > (size_t)w * h * 9 / 10)
+            FAIL(SQ_ERR_INVALID, "mask", "%s covers %.0f%% of the photo: it cannot be the snake alone", src,
+                 100.0 * area / ((double)w * h));
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            out->mask.px[i] = m8[i] ? 1.0f : 0.0f;
+        debug_save(&o, "2_mask.png", &out->mask);
+        body.m8 = m8;
+        m8 = NULL;
+        analyse(&body, w, h);
+    } else {
+        /* GrabCut on a small copy, from two rectangles (snakes often leave the frame, which
+         * GrabCut takes for background); each result and its inverse (GrabCut may take the
+         * backdrop for the object) is analysed, and the one with the longest clean run of
+         * body, in body widths, is kept */
+        out->mask_source = SQ_MASK_AUTOMATIC;
+        const double gs = fmin(1.0, 400.0 / side);
+        const int gw = (int)lround(w * gs) > 16 ? (int)lround(w * gs) : 16;
+        const int gh = (int)lround(h * gs) > 16 ? (int)lround(h * gs) : 16;
+        float *small = malloc(sizeof(float) * 3 * (size_t)gw * gh), *mf = malloc(sizeof(float) * (size_t)gw * gh);
+        float *mb = malloc(sizeof(float) * (size_t)w * h);
+        uint8_t *g8 = malloc((size_t)gw * gh);
+        int bad = !small || !mf || !mb || !g8 || sq__cv_resize(out->photo.px, w, h, 3, small, gw, gh);
+        static const double insets[2] = {0.03, 0.005};
+        double best_score = -1;
+        for (int cand = 0; !bad && cand < 4; cand++) {
+            if (cand % 2 == 0 && sq__cv_grabcut(small, gw, gh, insets[cand / 2], g8)) {
+                bad = 1;
+                break;
+            }
+            /* the inverse leaves out the frame GrabCut was told is background */
+            const int fx = (int)(insets[cand / 2] * gw) + 1, fy = (int)(insets[cand / 2] * gh) + 1;
+            for (int i = 0; i < gw * gh; i++) {
+                int x = i % gw, y = i / gw, frame = x < fx || y < fy || x >= gw - fx || y >= gh - fy;
+                mf[i] = (cand % 2 ? !g8[i] && !frame : g8[i] != 0) ? 1.0f : 0.0f;
+            }
+            if (sq__cv_resize(mf, gw, gh, 1, mb, w, h)) {
+                bad = 1;
+                break;
+            }
+            Body c = {0};
+            c.m8 = malloc((size_t)w * h);
+            if (!c.m8) {
+                bad = 1;
+                break;
+            }
+            size_t area = 0;
+            for (size_t i = 0; i < (size_t)w * h; i++) {
+                c.m8[i] = mb[i] >= 0.5f ? 255 : 0;
+                area += c.m8[i] != 0;
+            }
+            if (area < (size_t)w * h / 500 || area > (size_t)w * h * 7 / 10) {
+                c.st = SQ_ERR_INVALID;
+                snprintf(c.why, sizeof c.why, "the automatic mask covers %.1f%% of the photo",
+                         100.0 * area / ((double)w * h));
+            } else {
+                analyse(&c, w, h);
+            }
+            double score = c.st == SQ_OK ? c.runn / c.r : -1;
+            if (score > best_score || (best_score < 0 && body.m8 == NULL)) {
+                if (score > best_score)
+                    best_score = score;
+                body_free(&body);
+                body = c;
+            } else {
+                body_free(&c);
+            }
+        }
+        free(small);
+        free(mf);
+        free(mb);
+        free(g8);
+        if (bad)
+            FAIL(SQ_ERR_INTERNAL, "mask", "the automatic mask failed (GrabCut, out of memory)");
+    }
+    if (body.m8) {
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            out->mask.px[i] = body.m8[i] ? 1.0f : 0.0f;
+        debug_save(&o, "3_mask_clean.png", &out->mask);
+    }
+    if (body.path)
+        debug_centre_line(&o, &out->photo, body.skel, body.path, body.n, body.run0, body.runn);
+    if (body.st != SQ_OK)
+        FAIL(body.st, "mask", "%s%s", body.why,
+             out->mask_source == SQ_MASK_AUTOMATIC ? " (automatic mask: draw one and pass it with --mask)" : "");
+    const double r = body.r;
+    const int bestn = body.runn, best0 = body.run0;
+    const float *dist = body.dist;
+    const int *path = body.path;
+
+    /* 6. the run as a smooth curve with its local radius */
+    px = malloc(sizeof(float) * (size_t)bestn);
+    py = malloc(sizeof(float) * (size_t)bestn);
+    pr = malloc(sizeof(float) * (size_t)bestn);
+    if (!px || !py || !pr)
+        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+    for (int i = 0; i < bestn; i++) {
+        int k = path[best0 + i];
+        px[i] = (float)(k % w) + 0.5f;
+        py[i] = (float)(k / w) + 0.5f;
+        pr[i] = dist[k];
+    }
+    smooth1d(px, bestn, 0.5 * r);
+    smooth1d(py, bestn, 0.5 * r);
+    smooth1d(pr, bestn, 2 * r);
+    /* arc length of the smoothed curve */
+    double *arc = malloc(sizeof(double) * (size_t)bestn);
+    if (!arc)
+        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+    arc[0] = 0;
+    for (int i = 1; i < bestn; i++)
+        arc[i] = arc[i - 1] + hypot(px[i] - px[i - 1], py[i] - py[i - 1]);
+    const double step = 2 * THETA_MAX * r / SQ_FIT_STRIP_W; /* one strip pixel of skin */
+    const int rows = (int)(arc[bestn - 1] / step);
+    if (rows < SQ_FIT_STRIP_W) {
+        double len = arc[bestn - 1];
+        free(arc);
+        FAIL(SQ_ERR_INVALID, "mask",
+             "the longest clean stretch of body (not crossing or touching itself) is %.0f pixels, "
+             "%.1f body widths: too short to straighten (%.1f at least)",
+             len, len / (2 * r), SQ_FIT_STRIP_W * step / (2 * r));
+    }
+    if (sq_image_alloc(&out->strip, SQ_FIT_STRIP_W, rows, 3, SQ_SPACE_SRGB) ||
+        sq_image_alloc(&out->valid, SQ_FIT_STRIP_W, rows, 1, SQ_SPACE_DATA)) {
+        free(arc);
+        FAIL(SQ_ERR_NOMEM, "strip", "out of memory for the strip");
+    }
+    /* 7. resample perpendicular to the centre line */
+    int seg = 0;
+    for (int j = 0; j < rows; j++) {
+        double s = (j + 0.5) * step;
+        while (seg < bestn - 2 && arc[seg + 1] < s)
+            seg++;
+        double t = arc[seg + 1] > arc[seg] ? (s - arc[seg]) / (arc[seg + 1] - arc[seg]) : 0;
+        double cx = px[seg] + (px[seg + 1] - px[seg]) * t, cy = py[seg] + (py[seg + 1] - py[seg]) * t;
+        double rr = pr[seg] + (pr[seg + 1] - pr[seg]) * t;
+        int a = seg > 2 ? seg - 3 : 0, b = seg + 3 < bestn ? seg + 3 : bestn - 1;
+        double tx = px[b] - px[a], ty = py[b] - py[a], tl = hypot(tx, ty);
+        tx /= tl > 0 ? tl : 1;
+        ty /= tl > 0 ? tl : 1;
+        double nx = -ty, ny = tx;
+        for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
+            double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
+            double d = rr * sin(th);
+            float sx = (float)(cx + d * nx - 0.5), sy = (float)(cy + d * ny - 0.5);
+            int inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
+            float *o3 = sq_image_at(&out->strip, i, j);
+            for (int c = 0; c < 3; c++)
+                o3[c] = inside ? sq__sample(out->photo.px, w, h, 3, c, sx, sy) : 0.0f;
+            *sq_image_at(&out->valid, i, j) =
+                inside && body.m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
+        }
+    }
+    free(arc);
+    debug_save(&o, "5_strip_raw.png", &out->strip);
+    normalise_light(&out->strip, &out->valid);
+    debug_save(&o, "6_strip.png", &out->strip);
+    debug_save(&o, "7_strip_valid.png", &out->valid);
+
+    out->body_width = 2 * r / scale;
+    out->length = rows * step / scale;
+    out->npoints = bestn;
+    out->centre = malloc(sizeof(float) * 2 * (size_t)bestn);
+    if (!out->centre)
+        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+    for (int i = 0; i < bestn; i++) {
+        out->centre[2 * i] = (float)(px[i] / scale);
+        out->centre[2 * i + 1] = (float)(py[i] / scale);
+    }
+#undef FAIL
+done:
+    free(rgb0);
+    free(m8);
+    body_free(&body);
+    free(px);
+    free(py);
+    free(pr);
+    return st == SQ_OK ? SQ_OK : fail(out, st);
+}
