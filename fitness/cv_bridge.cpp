@@ -1,8 +1,11 @@
 // OpenCV behind a C interface for photo preparation. Exceptions stop here.
 #include <opencv2/imgproc.hpp>
+#include <opencv2/saliency.hpp>
 #include <opencv2/ximgproc.hpp>
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "cv_bridge.h"
 
@@ -27,6 +30,36 @@ extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint
         int dx = (int)(inset * w), dy = (int)(inset * h);
         cv::Rect rect(dx, dy, w - 2 * dx, h - 2 * dy);
         cv::grabCut(img, m, rect, bgd, fgd, 5, cv::GC_INIT_WITH_RECT);
+        for (int i = 0; i < w * h; i++)
+            mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
+        return 0;
+    } catch (...) {
+        return -1;
+    }
+}
+
+extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask)
+{
+    try {
+        cv::Mat f(h, w, CV_32FC3, const_cast<float *>(rgb)), img, sal, sal8;
+        f.convertTo(img, CV_8UC3, 255.0);
+        auto s = cv::saliency::StaticSaliencyFineGrained::create();
+        if (!s->computeSaliency(img, sal))
+            return -1;
+        sal.convertTo(sal8, CV_8U, sal.depth() == CV_8U ? 1.0 : 255.0);
+        cv::GaussianBlur(sal8, sal8, cv::Size(0, 0), 2.0 + 0.01 * std::max(w, h));
+        /* the most salient sixth: probably the snake; the least salient half: probably not */
+        std::vector<uchar> v(sal8.begin<uchar>(), sal8.end<uchar>());
+        std::nth_element(v.begin(), v.begin() + v.size() * 5 / 6, v.end());
+        uchar hi = v[v.size() * 5 / 6];
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        uchar lo = v[v.size() / 2];
+        cv::Mat m(h, w, CV_8UC1), bgd, fgd;
+        for (int i = 0; i < w * h; i++)
+            m.data[i] = sal8.data[i] >= hi ? cv::GC_PR_FGD : (sal8.data[i] <= lo ? cv::GC_BGD : cv::GC_PR_BGD);
+        if (hi <= lo)
+            return -1;
+        cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
         for (int i = 0; i < w * h; i++)
             mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
         return 0;

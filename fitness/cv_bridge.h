@@ -16,6 +16,10 @@ int sq__cv_resize(const float *src, int sw, int sh, int ch, float *dst, int dw, 
 /* Foreground by GrabCut, started from a rectangle inset by `inset` of each side. */
 int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask);
 
+/* Foreground by GrabCut started from the image's saliency (OpenCV's fine-grained static
+ * saliency): the most salient sixth probably the object, the least salient half not. */
+int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask);
+
 /* Opening and closing with a disc of `radius`, the largest connected component kept,
  * its holes of at most max_hole pixels filled. Returns the number of components found
  * before keeping one (>= 0). */
