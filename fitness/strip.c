@@ -2,7 +2,6 @@
 #include <math.h>
 
 #include "fitness_internal.h"
-#include "squama/io.h"
 
 /* The key light in the tangent frame (x across, y up the texture, z out). */
 static const float KEY[3] = {-0.35f, 0.55f, 0.76f};
@@ -18,6 +17,11 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     if (normal && (!normal->px || normal->width != basecolor->width ||
                    normal->height != basecolor->height || normal->channels < 3))
         return sq_error_set(err, SQ_ERR_INVALID, "strip", "the normal map does not match the base colour");
+    enum { SHADE_N = 256 };
+    const float SHADE_MAX = 2.5f;
+    float shade_lut[SHADE_N + 1];
+    for (int i = 0; i <= SHADE_N; i++)
+        shade_lut[i] = powf((float)i / SHADE_N * SHADE_MAX, 1.0f / 2.2f);
     if (sq_image_alloc(strip, SQ_FIT_STRIP_W, length, 3, SQ_SPACE_SRGB) != 0)
         return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for a strip");
     const int w = basecolor->width, h = basecolor->height, ch = basecolor->channels;
@@ -60,8 +64,11 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                 float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
                 float diff = (n[0] * KEY[0] + n[1] * KEY[1] + n[2] * KEY[2]) / nl;
                 float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) / (0.30f + 0.85f * KEY[2]);
+                /* a linear factor applied to sRGB values: about its 1/2.2 power */
+                int si = (int)(shade * (SHADE_N / SHADE_MAX) + 0.5f);
+                float f = shade_lut[si < 0 ? 0 : (si > SHADE_N ? SHADE_N : si)];
                 for (int k = 0; k < 3; k++)
-                    o[k] = sq_io_linear_to_srgb(fminf(1.0f, sq_io_srgb_to_linear(o[k]) * shade));
+                    o[k] = fminf(1.0f, o[k] * f);
             }
         }
     }
