@@ -509,7 +509,15 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                     a2 += c.m8[i] != 0;
                 double tube = a2 / (c.n * 2 * c.r);
                 tube = tube > 1 ? 1 / tube : tube;
-                score = c.runn / (2 * c.r) * tube * tube * (cand % 2 ? 0.6 : 1.0);
+                /* a run hugging the frame is the edge of a backdrop region, not a snake */
+                int near = 0;
+                const int margin = side / 20;
+                for (int i = c.run0; i < c.run0 + c.runn; i++) {
+                    int x = c.path[i] % w, y = c.path[i] / w;
+                    near += x < margin || y < margin || x >= w - margin || y >= h - margin;
+                }
+                score = c.runn / (2 * c.r) * tube * tube * (cand % 2 ? 0.6 : 1.0) *
+                        (1.0 - (double)near / c.runn);
             }
             if (score > best_score || (best_score < 0 && body.m8 == NULL)) {
                 if (score > best_score)
