@@ -29,3 +29,18 @@ const char *cli_presets_dir(void)
     const char *env = getenv("SQUAMA_PRESETS");
     return env && *env ? env : SQUAMA_PRESETS_DIR;
 }
+
+int cli_parse_size(const char *s, int lo, int hi, int *w, int *h)
+{
+    char *end;
+    long a = strtol(s, &end, 10), b = a;
+    if (end == s)
+        return 0;
+    if (*end == 'x' || *end == 'X')
+        b = strtol(end + 1, &end, 10);
+    if (*end || a < lo || b < lo || a > hi || b > hi)
+        return 0;
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+}

@@ -35,6 +35,9 @@ int cli_fail(const SqError *err);
 /* Prints "squama: <message> (see 'squama <cmd> --help')" to stderr; returns CLI_USAGE. */
 int cli_usage(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* Parses "N" or "WxH" with both sides in [lo, hi]; 1 on success. */
+int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);
+
 /* Where the shipped presets live: $SQUAMA_PRESETS, else the source tree's presets/. */
 const char *cli_presets_dir(void);
 

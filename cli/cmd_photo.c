@@ -118,17 +118,10 @@ int cmd_photo(int argc, char **argv)
         case 'o': out = optarg; break;
         case 'm': mask_path = optarg; break;
         case 't': truth_path = optarg; break;
-        case 's': {
-            char *end;
-            long a = strtol(optarg, &end, 10), b = a;
-            if (*end == 'x' || *end == 'X')
-                b = strtol(end + 1, &end, 10);
-            if (*end || a < 64 || b < 64 || a > 8192 || b > 8192)
+        case 's':
+            if (!cli_parse_size(optarg, 64, 8192, &po.width, &po.height))
                 return cli_usage("photo", "--size must be WxH with sides from 64 to 8192, got '%s'", optarg);
-            po.width = (int)a;
-            po.height = (int)b;
             break;
-        }
         case O_SEED:
             if (!parse_double(optarg, 0, 4294967295.0, &v) || v != (double)(unsigned)v)
                 return cli_usage("photo", "--seed must be an integer >= 0, got '%s'", optarg);

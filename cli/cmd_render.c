@@ -37,18 +37,6 @@ static const char help[] =
     "  -q, --quiet          print nothing but errors\n"
     "  -h, --help           show this help\n";
 
-static int parse_size(const char *s, int *w, int *h)
-{
-    char *end;
-    long a = strtol(s, &end, 10), b = a;
-    if (*end == 'x' || *end == 'X')
-        b = strtol(end + 1, &end, 10);
-    if (*end || a < 8 || b < 8 || a > SQ_GEN_MAX_SIZE || b > SQ_GEN_MAX_SIZE)
-        return 0;
-    *w = (int)a;
-    *h = (int)b;
-    return 1;
-}
 
 static double now_ms(void)
 {
@@ -79,7 +67,7 @@ int cmd_render(int argc, char **argv)
         switch (c) {
         case 'o': outdir = optarg; break;
         case 's':
-            if (!parse_size(optarg, &go.width, &go.height))
+            if (!cli_parse_size(optarg, 8, SQ_GEN_MAX_SIZE, &go.width, &go.height))
                 return cli_usage("render", "--size must be N or WxH with sides from 8 to %d, got '%s'",
                                  SQ_GEN_MAX_SIZE, optarg);
             break;
