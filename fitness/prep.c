@@ -447,8 +447,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     } else {
         /* GrabCut on a small copy, started from two rectangles (snakes often leave the
          * frame, which GrabCut takes for background) and from the image's saliency; each
-         * result and its inverse (GrabCut may take the backdrop for the object) is analysed
-         * and the most snake-like kept */
+         * result is analysed and the most snake-like kept */
         out->mask_source = SQ_MASK_AUTOMATIC;
         const double gs = fmin(1.0, 400.0 / side);
         const int gw = (int)lround(w * gs) > 16 ? (int)lround(w * gs) : 16;
@@ -459,24 +458,17 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         int bad = !small || !mf || !mb || !g8 || sq__cv_resize(out->photo.px, w, h, 3, small, gw, gh);
         static const double insets[2] = {0.03, 0.005};
         double best_score = -1;
-        for (int cand = 0; !bad && cand < 6; cand++) {
-            if (cand % 2 == 0) {
-                int fail_gc = cand < 4 ? sq__cv_grabcut(small, gw, gh, insets[cand / 2], g8)
-                                       : sq__cv_grabcut_salient(small, gw, gh, g8);
-                if (fail_gc && cand < 4) {
-                    bad = 1;
-                    break;
-                }
-                if (fail_gc) /* no saliency to start from: skip these two */
-                    break;
+        for (int cand = 0; !bad && cand < 3; cand++) {
+            int fail_gc = cand < 2 ? sq__cv_grabcut(small, gw, gh, insets[cand], g8)
+                                   : sq__cv_grabcut_salient(small, gw, gh, g8);
+            if (fail_gc && cand < 2) {
+                bad = 1;
+                break;
             }
-            /* the inverse leaves out the frame GrabCut was told is background */
-            const double inset = cand < 4 ? insets[cand / 2] : 0.0;
-            const int fx = (int)(inset * gw) + (cand < 4), fy = (int)(inset * gh) + (cand < 4);
-            for (int i = 0; i < gw * gh; i++) {
-                int x = i % gw, y = i / gw, frame = x < fx || y < fy || x >= gw - fx || y >= gh - fy;
-                mf[i] = (cand % 2 ? !g8[i] && !frame : g8[i] != 0) ? 1.0f : 0.0f;
-            }
+            if (fail_gc) /* no saliency to start from */
+                break;
+            for (int i = 0; i < gw * gh; i++)
+                mf[i] = g8[i] ? 1.0f : 0.0f;
             if (sq__cv_resize(mf, gw, gh, 1, mb, w, h)) {
                 bad = 1;
                 break;
@@ -501,7 +493,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
             }
             /* snake-likeness: the clean run in body widths, times how well the shape is a
              * tube of that width along its centre line (a patch of backdrop is far wider
-             * than its skeleton says), GrabCut's own answer preferred to its inverse */
+             * than its skeleton says) */
             double score = -1;
             if (c.st == SQ_OK) {
                 size_t a2 = 0;
@@ -516,8 +508,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                     int x = c.path[i] % w, y = c.path[i] / w;
                     near += x < margin || y < margin || x >= w - margin || y >= h - margin;
                 }
-                score = c.runn / (2 * c.r) * tube * tube * (cand % 2 ? 0.6 : 1.0) *
-                        (1.0 - (double)near / c.runn);
+                score = c.runn / (2 * c.r) * tube * tube * (1.0 - (double)near / c.runn);
             }
             if (score > best_score || (best_score < 0 && body.m8 == NULL)) {
                 if (score > best_score)
