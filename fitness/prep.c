@@ -231,11 +231,20 @@ static void analyse(Body *b, int w, int h)
     const int n = b->n;
     const double r = b->r;
     int *bad = calloc((size_t)n, sizeof(int));
-    if (!bad)
+    float *width = malloc(sizeof(float) * (size_t)n);
+    if (!bad || !width) {
+        free(bad);
+        free(width);
         WHY(SQ_ERR_NOMEM, "out of memory");
+    }
+    /* the width along the path, smoothed over half a body width: a ragged mask edge is
+     * not a crossing */
+    for (int i = 0; i < n; i++)
+        width[i] = b->dist[b->path[i]];
+    smooth1d(width, n, 0.5 * r);
     for (int i = 0; i < n; i++) {
-        float d = b->dist[b->path[i]];
-        if (d > 1.3 * r || d < 0.6 * r) {
+        float d = width[i];
+        if (d > 1.35 * r || d < 0.55 * r) {
             int lo = i - (int)r < 0 ? 0 : i - (int)r, hi = i + (int)r >= n ? n - 1 : i + (int)r;
             for (int k = lo; k <= hi; k++)
                 bad[k] = 1;
@@ -256,6 +265,7 @@ static void analyse(Body *b, int w, int h)
         i = j;
     }
     free(bad);
+    free(width);
     if (b->runn < 8)
         WHY(SQ_ERR_INVALID, "no clean stretch of body: it crosses or touches itself everywhere");
 #undef WHY
