@@ -108,9 +108,7 @@ int cmd_score(int argc, char **argv)
         SqImage strip;
         if (sq_fit_score(&target, &params[i], size, 0.5, &maps, obj + (size_t)i * SQ_OBJ_COUNT, &scale[i],
                          po.debug_dir ? &strip : NULL, &err) != SQ_OK) {
-            char where[SQ_ERROR_WHERE_MAX];
-            snprintf(where, sizeof where, "%s", presets[i]);
-            snprintf(err.where, sizeof err.where, "%s", where);
+            snprintf(err.where, sizeof err.where, "%s", presets[i]);
             rc = cli_fail(&err);
         } else if (po.debug_dir) { /* the candidate's strip at its best scale, beside the photo's */
             char path[4096];

@@ -229,24 +229,6 @@ static inline float sq__profile_at(const float *v, int n, float t)
     return v[a] + (v[b] - v[a]) * (t - (float)f);
 }
 
-/* The premultiplied pattern colour at pixel coordinates (x, y) (pixel centres at
- * integers), from the 1-D profiles, interpolated and wrapping. */
-static inline void sq__pattern_sample_1d(const SqPattern *pat, float x, float y, float out[4])
-{
-    out[0] = out[1] = out[2] = out[3] = 0;
-    for (int i = 0; i < pat->n; i++) {
-        const SqLayer *l = &pat->layers[i];
-        float cov = l->kind == SQ_LAYER_ROWS   ? sq__profile_at(l->cov, pat->h, y)
-                    : l->kind == SQ_LAYER_COLS ? sq__profile_at(l->cov, pat->w, x)
-                                               : 1.0f;
-        float a = cov * l->color[3], k = 1.0f - a;
-        out[0] = l->color[0] * a + out[0] * k;
-        out[1] = l->color[1] * a + out[1] * k;
-        out[2] = l->color[2] * a + out[2] * k;
-        out[3] = a + out[3] * k;
-    }
-}
-
 /* ---- outline (outline.c), warp (warp.c) ---- */
 
 /* Adds the outline of the premultiplied pattern image `rgba` over it, using the height
@@ -263,15 +245,6 @@ typedef struct SqWarp {
 
 SqStatus sq__warp_field(const SqParams *p, int w, int h, SqWarp *warp, SqError *err);
 void sq__warp_free(SqWarp *warp);
-
-/* Displacement at pixel (x, y) of a w x h image. */
-static inline void sq__warp_at(const SqWarp *wp, int w, int h, int x, int y, float *dx, float *dy)
-{
-    float gx = ((float)x + 0.5f) * (float)wp->gw / (float)w - 0.5f;
-    float gy = ((float)y + 0.5f) * (float)wp->gh / (float)h - 0.5f;
-    *dx = sq__sample(wp->dx, wp->gw, wp->gh, 1, 0, gx, gy);
-    *dy = sq__sample(wp->dy, wp->gw, wp->gh, 1, 0, gx, gy);
-}
 
 /* ---- height, roughness, normal (scales.c, surface.c) ---- */
 

@@ -64,8 +64,8 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
         st = sq__pattern_postprocess(p, &pat, err);
     /* without an outline the layers are sampled where the colour map needs them; the
      * outline needs the pattern as an image */
-    const int sample_1d = pat.n > 0 && !p->Has_Outline;
-    if (st == SQ_OK && pat.n > 0 && !sample_1d) {
+    const int sample_layers = pat.n > 0 && !p->Has_Outline;
+    if (st == SQ_OK && pat.n > 0 && !sample_layers) {
         if (!(rgba = sq__falloc_raw(n * 4)))
             st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the pattern");
         else
@@ -132,7 +132,7 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
                     }
                     for (int x = 0; x < w; x++)
                         pr[x] = pg[x] = pb[x] = pa[x] = 0.0f;
-                    if (sample_1d && !warp.dx) { /* profiles read directly */
+                    if (sample_layers && !warp.dx) { /* profiles read directly */
                         for (int li = 0; li < pat.n; li++) {
                             const SqLayer *l = &pat.layers[li];
                             const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
@@ -155,7 +155,7 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
                                 }
                             }
                         }
-                    } else if (sample_1d) {
+                    } else if (sample_layers) {
                         for (int li = 0; li < pat.n; li++) {
                             const SqLayer *l = &pat.layers[li];
                             const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
