@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "error.h"
+#include "params.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -92,6 +93,67 @@ int sq_cmaes_restarts(const SqCmaes *es);
 
 /* Moves the mean (e.g. to an elite found by other operators), keeping C and sigma. */
 void sq_cmaes_set_mean(SqCmaes *es, const double *m);
+
+/* ---- the genome (genome.c) ----
+ * The searchable genes of one pattern category, taken from the parameter table: each a
+ * component of a parameter (a colour's r, g, b; a vector's x or y), mapped to [0, 1] over
+ * its suggested range (on a log scale where the table says so). Small integers and booleans
+ * are discrete genes with equal-width levels (CMA-ES keeps its margin on them); large
+ * integers are searched as continuous values and rounded. The pattern category itself is
+ * categorical and never a gene: the fit keeps one niche per category. Structures (the
+ * cellular automaton) are moved by the GP operators below. */
+
+enum { SQ_GENOME_MAX = 64 };
+
+typedef enum SqGeneKind { SQ_GENE_REAL, SQ_GENE_LOG, SQ_GENE_INT, SQ_GENE_BOOL } SqGeneKind;
+
+typedef struct SqGene {
+    const SqParamSpec *spec;
+    int comp;        /* component of a vec2 or colour */
+    SqGeneKind kind;
+    int levels;      /* discrete levels (0: continuous) */
+    double lo, hi;   /* the range that [0, 1] maps onto */
+} SqGene;
+
+typedef struct SqGenome {
+    int category;    /* SqPatternType */
+    int n;
+    SqGene genes[SQ_GENOME_MAX];
+    int has_ca;      /* the category draws a cellular automaton */
+} SqGenome;
+
+/* The genes of a category. SQ_ERR_UNSUPPORTED for a category without genes. */
+SqStatus sq_genome_init(SqGenome *g, int category, SqError *err);
+
+/* Gene values of p in [0, 1] (clamped to the range). */
+void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x);
+
+/* Writes the genes x (values outside [0, 1] are clamped) into p; every other field of p is
+ * kept. Sets p->Pattern_Type to the genome's category. */
+void sq_genome_decode(const SqGenome *g, const double *x, SqParams *p);
+
+/* Per gene, the discrete levels (0 for continuous), as CMA-ES wants them. */
+void sq_genome_levels(const SqGenome *g, int *levels);
+
+/* ---- GP operators on cellular automata (gp.c), after Hewgill & Ross 2003 ---- */
+
+/* A random, valid automaton of plausible size for a snake pattern. */
+void sq_gp_ca_random(uint64_t *rng, SqCa *out);
+
+/* Point mutation: flips one cell, one rule bit, or nudges a rule's length or the shift. */
+void sq_gp_ca_point_mutate(uint64_t *rng, SqCa *ca);
+
+/* Structural mutation: inserts or deletes a rule, grows or shrinks the initial row by
+ * repeating or cutting a segment, changes the epochs, or switches the automaton type. */
+void sq_gp_ca_struct_mutate(uint64_t *rng, SqCa *ca);
+
+/* Segment crossover: the child is a with a segment of b's initial row (at the same relative
+ * place) and a's rule schedule cut at one point and completed by b's. */
+void sq_gp_ca_crossover(uint64_t *rng, const SqCa *a, const SqCa *b, SqCa *child);
+
+/* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
+ * the lowest rank wins, ties go to the larger crowding distance. */
+int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,194 @@
+/* The genome (parameter table <-> unit cube) and the GP operators on automata. */
+#include <math.h>
+
+#include "sq_test.h"
+#include "squama/search.h"
+
+static const int categories[] = {SQ_PATTERN_NONE, SQ_PATTERN_LONGITUDINAL, SQ_PATTERN_TRANSVERSAL,
+                                 SQ_PATTERN_SPOTS, SQ_PATTERN_OTHER_SIMPLE};
+
+static double uniform(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) * 0x1.0p-53;
+}
+
+static void genes_of_each_category(void **state)
+{
+    (void)state;
+    for (size_t c = 0; c < sizeof categories / sizeof categories[0]; c++) {
+        SqGenome g;
+        assert_int_equal(sq_genome_init(&g, categories[c], NULL), SQ_OK);
+        assert_true(g.n >= 6 && g.n <= SQ_GENOME_MAX);
+        for (int i = 0; i < g.n; i++) {
+            assert_false(g.genes[i].spec->flags & SQ_PF_NOSEARCH);
+            assert_true(g.genes[i].hi > g.genes[i].lo);
+            for (int j = 0; j < i; j++) /* no gene twice */
+                assert_false(g.genes[i].spec == g.genes[j].spec && g.genes[i].comp == g.genes[j].comp);
+        }
+        assert_int_equal(g.has_ca, categories[c] == SQ_PATTERN_OTHER_SIMPLE);
+    }
+    SqGenome g;
+    SqError err;
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_COMPLEX, &err), SQ_ERR_UNSUPPORTED);
+    assert_contains(err.what, "complex");
+}
+
+static const SqGene *gene(const SqGenome *g, const char *name, int comp)
+{
+    for (int i = 0; i < g->n; i++)
+        if (strcmp(g->genes[i].spec->name, name) == 0 && g->genes[i].comp == comp)
+            return &g->genes[i];
+    return NULL;
+}
+
+static void kinds_follow_the_table(void **state)
+{
+    (void)state;
+    SqGenome g;
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_LONGITUDINAL, NULL), SQ_OK);
+    const SqGene *e = gene(&g, "Longitudinal_NumberOfStripes", 0);
+    assert_non_null(e);
+    assert_int_equal(e->kind, SQ_GENE_INT);
+    assert_int_equal(e->levels, 10); /* suggested 1..10 */
+    e = gene(&g, "ScaleShape_IsKeeled", 0);
+    assert_int_equal(e->kind, SQ_GENE_BOOL);
+    assert_int_equal(e->levels, 2);
+    e = gene(&g, "Scales_XAmount", 0); /* 64 values on a log scale: continuous, rounded */
+    assert_int_equal(e->kind, SQ_GENE_LOG);
+    assert_int_equal(e->levels, 0);
+    assert_non_null(gene(&g, "Background_Color", 2));
+    assert_null(gene(&g, "Background_Color", 3)); /* alpha is not searched */
+    assert_null(gene(&g, "Seed", 0));
+    assert_null(gene(&g, "Spots_Tiling", 0)); /* another category's parameter */
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_SPOTS, NULL), SQ_OK);
+    assert_int_equal(gene(&g, "Spots_Tiling", 0)->kind, SQ_GENE_LOG);
+}
+
+/* decode(x) is valid for any x, and encode(decode(x)) decodes to the same parameters. */
+static void decode_encode_round_trip(void **state)
+{
+    (void)state;
+    uint64_t s = 42;
+    for (size_t c = 0; c < sizeof categories / sizeof categories[0]; c++) {
+        SqGenome g;
+        assert_int_equal(sq_genome_init(&g, categories[c], NULL), SQ_OK);
+        for (int trial = 0; trial < 200; trial++) {
+            double x[SQ_GENOME_MAX], y[SQ_GENOME_MAX];
+            for (int i = 0; i < g.n; i++)
+                x[i] = -0.5 + 2 * uniform(&s);
+            SqParams p, q;
+            sq_params_default(&p);
+            sq_genome_decode(&g, x, &p);
+            assert_int_equal(p.Pattern_Type, categories[c]);
+            SqError err;
+            if (sq_params_validate(&p, &err) != SQ_OK)
+                fail_msg("decoded parameters invalid: %s (%s)", err.what, err.where);
+            sq_genome_encode(&g, &p, y);
+            for (int i = 0; i < g.n; i++)
+                assert_true(y[i] >= 0 && y[i] <= 1);
+            q = p;
+            sq_genome_decode(&g, y, &q);
+            for (int i = 0; i < g.n; i++) {
+                const SqGene *e = &g.genes[i];
+                const void *a = sq_param_cptr(&p, e->spec), *b = sq_param_cptr(&q, e->spec);
+                if (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL)
+                    assert_int_equal(*(const int *)a, *(const int *)b);
+                else
+                    assert_float_equal(((const double *)a)[e->comp], ((const double *)b)[e->comp], 1e-9);
+            }
+        }
+    }
+}
+
+static void levels_for_cmaes(void **state)
+{
+    (void)state;
+    SqGenome g;
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_OTHER_SIMPLE, NULL), SQ_OK);
+    int levels[SQ_GENOME_MAX];
+    sq_genome_levels(&g, levels);
+    int discrete = 0;
+    for (int i = 0; i < g.n; i++) {
+        assert_int_equal(levels[i], g.genes[i].levels);
+        discrete += levels[i] > 0;
+    }
+    assert_true(discrete >= 3); /* IsKeeled, RotatePattern90Degrees, Has_Outline */
+}
+
+static void gp_operators_keep_automata_valid(void **state)
+{
+    (void)state;
+    uint64_t r = 7;
+    SqCa a, b, c;
+    int changed_point = 0, changed_struct = 0, mixed = 0;
+    for (int t = 0; t < 3000; t++) {
+        sq_gp_ca_random(&r, &a);
+        sq_gp_ca_random(&r, &b);
+        SqError err;
+        if (sq_ca_validate(&a, "random", &err) != SQ_OK)
+            fail_msg("%s", err.what);
+        c = a;
+        sq_gp_ca_point_mutate(&r, &c);
+        assert_int_equal(sq_ca_validate(&c, "point", NULL), SQ_OK);
+        changed_point += !sq_ca_equal(&a, &c);
+        c = a;
+        sq_gp_ca_struct_mutate(&r, &c);
+        assert_int_equal(sq_ca_validate(&c, "struct", NULL), SQ_OK);
+        changed_struct += !sq_ca_equal(&a, &c);
+        sq_gp_ca_crossover(&r, &a, &b, &c);
+        assert_int_equal(sq_ca_validate(&c, "crossover", NULL), SQ_OK);
+        assert_int_equal(c.ncells, a.ncells); /* the row keeps a's length */
+        mixed += !sq_ca_equal(&a, &c) && !sq_ca_equal(&b, &c);
+        /* long chains stay valid too */
+        for (int k = 0; k < 5; k++) {
+            sq_gp_ca_struct_mutate(&r, &a);
+            sq_gp_ca_point_mutate(&r, &a);
+        }
+        assert_int_equal(sq_ca_validate(&a, "chain", NULL), SQ_OK);
+        uint8_t rows[SQ_CA_MAX_CELLS * 16];
+        assert_true(a.ncells * a.epochs <= (int)sizeof rows);
+    }
+    assert_true(changed_point > 2400);  /* a flip can be undone by repair only rarely */
+    assert_true(changed_struct > 1500); /* some structural moves hit a size limit */
+    assert_true(mixed > 2000);
+}
+
+static void tournament_prefers_low_ranks(void **state)
+{
+    (void)state;
+    enum { n = 50 };
+    int rank[n];
+    double crowd[n];
+    for (int i = 0; i < n; i++) {
+        rank[i] = i / 5;
+        crowd[i] = i % 5;
+    }
+    uint64_t r = 3;
+    double mean = 0;
+    int hist[n] = {0};
+    for (int t = 0; t < 10000; t++) {
+        int w = sq_gp_tournament(&r, n, 5, rank, crowd);
+        assert_true(w >= 0 && w < n);
+        hist[w]++;
+        mean += rank[w];
+    }
+    mean /= 10000;
+    /* the expected best of 5 uniform ranks on 0..9 is 1.21; the population mean is 4.5 */
+    assert_true(mean > 1.1 && mean < 1.32);
+    assert_true(hist[4] > hist[0]); /* same rank: the larger crowding distance wins */
+    assert_int_equal(hist[n - 5], 0); /* worst rank, smallest crowding: wins only alone */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(genes_of_each_category),
+        cmocka_unit_test(kinds_follow_the_table),
+        cmocka_unit_test(decode_encode_round_trip),
+        cmocka_unit_test(levels_for_cmaes),
+        cmocka_unit_test(gp_operators_keep_automata_valid),
+        cmocka_unit_test(tournament_prefers_low_ranks),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
