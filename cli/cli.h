@@ -18,6 +18,7 @@ int cmd_render(int argc, char **argv);
 int cmd_photo(int argc, char **argv);
 int cmd_prepare(int argc, char **argv);
 int cmd_score(int argc, char **argv);
+int cmd_fit(int argc, char **argv);
 
 /* mkdir -p; 0 or -1 with errno. */
 int cli_mkdirs(const char *path);

@@ -13,6 +13,7 @@ static const CliCommand commands[] = {
     {"photo", "a synthetic photo of a preset on a snake body, with mask and truth", cmd_photo},
     {"prepare", "find the snake in a photo and straighten its body into a strip", cmd_prepare},
     {"score", "score presets against a photo: objectives and Pareto rank", cmd_score},
+    {"fit", "fit the generator to a photo: best preset, front, textures, report", cmd_fit},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

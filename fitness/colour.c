@@ -60,6 +60,30 @@ void sq_fit_srgb_to_lab(const float rgb[3], float lab[3])
     lab[2] = 200.0f * (fy - fz);
 }
 
+static double lab_finv(double t)
+{
+    const double d = 6.0 / 29.0;
+    return t > d ? t * t * t : 3 * d * d * (t - 4.0 / 29.0);
+}
+
+static double linear_to_srgb(double v)
+{
+    v = v < 0 ? 0 : v > 1 ? 1 : v;
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+}
+
+void sq_fit_lab_to_srgb(const float lab[3], float rgb[3])
+{
+    double fy = (lab[0] + 16.0) / 116.0, fx = fy + lab[1] / 500.0, fz = fy - lab[2] / 200.0;
+    double x = 0.95047 * lab_finv(fx), y = lab_finv(fy), z = 1.08883 * lab_finv(fz);
+    double r = 3.2404542 * x - 1.5371385 * y - 0.4985314 * z;
+    double g = -0.9692660 * x + 1.8760108 * y + 0.0415560 * z;
+    double b = 0.0556434 * x - 0.2040259 * y + 1.0572252 * z;
+    rgb[0] = (float)linear_to_srgb(r);
+    rgb[1] = (float)linear_to_srgb(g);
+    rgb[2] = (float)linear_to_srgb(b);
+}
+
 static double deg(double rad)
 {
     return rad * 180.0 / M_PI;

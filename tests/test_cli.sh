@@ -155,4 +155,47 @@ PY
 fi
 run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$TMP/typo.json"; check "score bad preset" 1 err "unknown key"
 
+
+# fit (on the same photo, with a small evaluation budget)
+run fit --help;           check "fit --help" 0 out "usage: squama fit" out "report.html"
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png"; check "fit without -o" 2 err "say where the results go"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --budget soon; check "fit bad budget" 2 err "--budget"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --method simplex; check "fit bad method" 2 err "simplex"
+run fit "$TMP/none.jpg" -o "$TMP/fx" --evals 100; check "fit missing photo" 1 err "cannot open image"
+[ -e "$TMP/fx/best.json" ] && { echo "FAIL: a failed fit wrote best.json"; fails=$((fails + 1)); }
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 64 -j 2
+check "fit" 0 out "evaluations" out "report: $TMP/fit/report.html"
+for f in best.json fit.json front/00.json basecolor.png height.png roughness.png normal.png \
+         preview.png photo.jpg mask.png strip.png fitted_strip.png report.html checkpoint/checkpoint.json; do
+  [ -s "$TMP/fit/$f" ] || { echo "FAIL: fit did not write $f"; fails=$((fails + 1)); }
+done
+run render "$TMP/fit/best.json" -o "$TMP/fit/r" --size 32; check "render the fitted preset" 0
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/fit/fit.json" "$TMP/fit/report.html" <<'PY' || { echo "FAIL: fit.json content"; fails=$((fails + 1)); }
+import json, sys
+f = json.load(open(sys.argv[1]))
+assert f["format"] == "squama-fit/1", f["format"]
+assert set(f["objectives"]) == {"palette", "histogram", "shape", "along", "across"}
+s = f["search"]
+assert s["evaluations"] <= 300 and s["seed"] == 1 and f["view_scale"] > 0
+assert f["category"] in f["category_scores"]
+html = open(sys.argv[2]).read()
+assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html
+PY
+fi
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json
+check "fit --json" 0 out '"stage"'
+if command -v python3 >/dev/null; then
+  python3 - "$out" <<'PY' || { echo "FAIL: fit --json lines"; fails=$((fails + 1)); }
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+assert len(lines) >= 3 and all("evaluations" in l for l in lines[:-1]), lines[:2]
+assert "best" in lines[-1] and lines[-1]["best"].endswith("best.json"), lines[-1]
+PY
+fi
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 64 -j 2 --resume "$TMP/fit" -q
+check "fit --resume" 0
+[ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
+run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
+
 [ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

@@ -74,6 +74,27 @@ static void srgb_to_lab_reference(void **state)
     }
 }
 
+/* Lab -> sRGB inverts sRGB -> Lab inside the gamut: the colour comes back within a
+ * fraction of a just-noticeable difference (the forward conversion uses tables). */
+static void lab_to_srgb_round_trip(void **state)
+{
+    (void)state;
+    for (int i = 0; i < 1000; i++) {
+        float rgb[3] = {(i % 10) / 9.0f, (i / 10 % 10) / 9.0f, (i / 100) / 9.0f}, lab[3], back[3], lab2[3];
+        sq_fit_srgb_to_lab(rgb, lab);
+        sq_fit_lab_to_srgb(lab, back);
+        sq_fit_srgb_to_lab(back, lab2);
+        double a[3] = {lab[0], lab[1], lab[2]}, b[3] = {lab2[0], lab2[1], lab2[2]};
+        assert_true(sq_fit_ciede2000(a, b) < 1.0); /* 0.6 at worst, near black */
+        for (int k = 0; k < 3; k++)
+            assert_float_equal(back[k], rgb[k], 5e-3);
+    }
+    float far[3] = {50, 200, -200}, out[3]; /* out of gamut: clipped */
+    sq_fit_lab_to_srgb(far, out);
+    for (int k = 0; k < 3; k++)
+        assert_true(out[k] >= 0 && out[k] <= 1);
+}
+
 static void features_of(const SqParams *p, double view_scale, SqFeatures *f)
 {
     SqGenOptions o = sq_gen_options_default(256);
@@ -221,6 +242,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ciede2000_sharma_pairs),
         cmocka_unit_test(srgb_to_lab_reference),
+        cmocka_unit_test(lab_to_srgb_round_trip),
         cmocka_unit_test(identical_features_score_zero),
         cmocka_unit_test(objectives_see_their_changes),
         cmocka_unit_test(refusals),

@@ -177,6 +177,9 @@ void sq_fit_truth_free(SqPhotoTruth *t);
 /* sRGB-encoded RGB in [0,1] to CIELAB (D65). */
 void sq_fit_srgb_to_lab(const float rgb[3], float lab[3]);
 
+/* CIELAB (D65) to sRGB-encoded RGB in [0,1], clipped to the gamut. */
+void sq_fit_lab_to_srgb(const float lab[3], float rgb[3]);
+
 /* CIEDE2000 colour difference (Sharma, Wu & Dalal 2005). */
 double sq_fit_ciede2000(const double lab1[3], const double lab2[3]);
 

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "error.h"
+#include "fitness.h"
 #include "params.h"
 
 #ifdef __cplusplus
@@ -154,6 +155,105 @@ void sq_gp_ca_crossover(uint64_t *rng, const SqCa *a, const SqCa *b, SqCa *child
 /* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
  * the lowest rank wins, ties go to the larger crowding distance. */
 int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
+
+/* ---- the fit driver (fit.c) ----
+ * From a photo's target features to the best preset, in three stages:
+ *  1. screen: every category the generator can make, with random genes and the photo's
+ *     palette as colours, each candidate scored at every view scale of the grid (the view
+ *     scale is estimated on its own here, before anything else moves);
+ *  2. evolve: every category as a niche, CMA-ES moving each niche's continuous and
+ *     discrete genes plus the view scale (started from the niche's best screened
+ *     candidate), GP operators moving its automata; every generation ranked by NSGA-II on
+ *     the five objectives, one seed per generation (common random numbers); after every
+ *     round of generations the worst niche is dropped until `niches` remain;
+ *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
+ *     over several seeds at the fine size; the champion picked from the re-scored front
+ *     (see SqFitResult.norm); the champion polished by nlopt's SBPLX and kept polished only
+ *     when the re-scored polish is better.
+ * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
+ * result depends only on the seed: it is the same for any number of threads. A time budget
+ * ends the search wherever the clock stops it. */
+
+typedef enum SqFitMethod {
+    SQ_FIT_SQUAMA = 0, /* the three stages above */
+    SQ_FIT_RANDOM,     /* baselines: after the same screening, the best category's genome */
+    SQ_FIT_ESCH,       /* searched by random sampling or one of nlopt's global optimisers */
+    SQ_FIT_CRS2,       /* on one scalar (the pick rule's score), the same evaluation */
+    SQ_FIT_ISRES       /* budget, then the same re-scoring */
+} SqFitMethod;
+
+typedef struct SqFitCandidate {
+    SqParams params;
+    double view_scale;
+    double obj[SQ_OBJ_COUNT];
+    double score; /* the pick rule: sum of obj[k] / norm[k] */
+} SqFitCandidate;
+
+typedef struct SqFitProgress {
+    const char *stage;       /* "screen", "evolve", "rescore", "polish" */
+    int generation;
+    long evals;
+    double elapsed, budget;  /* seconds (budget 0: none) */
+    double best_score;       /* the lowest score so far (noisy before re-scoring) */
+    double best[SQ_OBJ_COUNT]; /* the lowest value of each objective so far */
+    int category;            /* the niche of the last generation */
+    const SqFitCandidate *front; /* the archive's Pareto front so far */
+    int nfront;
+} SqFitProgress;
+
+typedef struct SqFitOptions {
+    double budget;           /* seconds of wall time; 0: none (then max_evals must be set) */
+    long max_evals;          /* 0: none */
+    uint64_t seed;           /* the search's seed (1) */
+    int threads;             /* 0: the OpenMP default */
+    int coarse_size;         /* render size while screening and evolving (128) */
+    int fine_size;           /* render size when re-scoring and polishing (256) */
+    int screen;              /* random candidates per category (48) */
+    int niches;              /* categories left evolving after the racing (2) */
+    int reseeds;             /* seeds the finalists are re-scored over (4) */
+    int front_max;           /* largest front kept (24) */
+    double band_centre;      /* texture u facing the camera (0.5) */
+    int polish;              /* 1: the nlopt polish (default) */
+    SqFitMethod method;
+    const SqFitCandidate *seeds; /* extra starting candidates (e.g. a checkpoint's front) */
+    int nseeds;
+    volatile int *stop;      /* becomes nonzero (e.g. on SIGINT): finish with what is there */
+    void (*progress)(const SqFitProgress *p, void *ctx); /* after each generation */
+    void *ctx;
+} SqFitOptions;
+
+typedef struct SqFitHistory {
+    long evals;
+    double seconds, best_score, best[SQ_OBJ_COUNT];
+} SqFitHistory;
+
+enum { SQ_FIT_STAGES = 4 }; /* screen, evolve, rescore, polish */
+
+typedef struct SqFitResult {
+    SqFitCandidate best;     /* the champion, re-scored at the fine size */
+    SqFitCandidate *front;   /* the re-scored Pareto front, by score (best first) */
+    int nfront;
+    double norm[SQ_OBJ_COUNT]; /* each objective's median over the screening: the score's scale */
+    double category_score[SQ_PATTERN_COUNT]; /* best score per category; INFINITY: not tried */
+    int niche[SQ_PATTERN_COUNT]; /* 1: evolved in stage 2 */
+    int survivor[SQ_PATTERN_COUNT]; /* 1: still evolving when stage 2 ended */
+    SqFitHistory *history;   /* one row per generation */
+    int nhistory;
+    long evals;
+    double seconds[SQ_FIT_STAGES];
+    int stopped;             /* 1: the caller stopped the fit early */
+    double polish_before, polish_after; /* champion score before and after the polish */
+    int polish_kept;
+} SqFitResult;
+
+SqFitOptions sq_fit_options_default(void);
+
+/* Fits the generator to a target. On error nothing is allocated in out. */
+SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err);
+
+void sq_fit_result_free(SqFitResult *r);
+
+const char *sq_fit_method_name(SqFitMethod m);
 
 #ifdef __cplusplus
 }

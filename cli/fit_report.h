@@ -1,0 +1,11 @@
+/* The fit's report.html: pictures side by side, the objectives, convergence and the front. */
+#ifndef SQUAMA_CLI_FIT_REPORT_H
+#define SQUAMA_CLI_FIT_REPORT_H
+
+#include "squama/search.h"
+
+/* Writes DIR/report.html (atomic) beside the images squama fit wrote there. */
+SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
+                        double total_s, SqError *err);
+
+#endif

@@ -1,0 +1,1051 @@
+/* The fit driver: screen every category, evolve the promising ones, re-score the finalists,
+ * polish the champion. See search.h for the stages. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <nlopt.h>
+#include <omp.h>
+
+#include "rng.h"
+#include "squama/search.h"
+
+enum {
+    STRIP_ROWS = 256,       /* candidate strip length, as sq_fit_score uses */
+        ARCHIVE_MAX = 64,
+    CATEGORIES = SQ_PATTERN_COMPLEX /* the categories the generator can make */
+};
+
+/* The view scale gene: log scale over the grid's range. */
+static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
+
+static double view_to_x(double v)
+{
+    return log(fmax(v, VIEW_LO) / VIEW_LO) / log(VIEW_HI / VIEW_LO);
+}
+
+static double x_to_view(double x)
+{
+    return VIEW_LO * pow(VIEW_HI / VIEW_LO, fmin(fmax(x, 0), 1));
+}
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+typedef struct Fit {
+    const SqFeatures *target;
+    SqFitOptions o;
+    SqFitResult *r;
+    SqRng rng;
+    int threads;
+    SqTextures *maps; /* one per thread */
+    double t0;
+    long evals;
+    float pal[SQ_FIT_PALETTE][3]; /* the photo's palette, sRGB, by weight */
+    int npal;
+    SqFitCandidate *archive; /* the non-dominated candidates so far */
+    int narchive;
+    int history_cap;
+    double best_score, best_obj[SQ_OBJ_COUNT];
+    int generation;
+} Fit;
+
+SqFitOptions sq_fit_options_default(void)
+{
+    SqFitOptions o = {0};
+    o.budget = 60;
+    o.coarse_size = 128;
+    o.fine_size = 256;
+    o.screen = 48;
+    o.niches = 2;
+    o.reseeds = 4;
+    o.front_max = 24;
+    o.band_centre = 0.5;
+    o.polish = 1;
+    o.seed = 1;
+    return o;
+}
+
+const char *sq_fit_method_name(SqFitMethod m)
+{
+    static const char *const names[] = {"squama", "random", "esch", "crs2", "isres"};
+    return (unsigned)m < sizeof names / sizeof names[0] ? names[m] : "?";
+}
+
+void sq_fit_result_free(SqFitResult *r)
+{
+    if (!r)
+        return;
+    free(r->front);
+    free(r->history);
+    r->front = NULL;
+    r->history = NULL;
+    r->nfront = r->nhistory = 0;
+}
+
+static double elapsed(const Fit *f)
+{
+    return now() - f->t0;
+}
+
+/* 1 when the search must end: the caller's flag, the clock, or the evaluations (each as a
+ * fraction of the whole budget). */
+static int out_of_budget(const Fit *f, double fraction)
+{
+    if (f->o.stop && *f->o.stop)
+        return 1;
+    if (f->o.budget > 0 && elapsed(f) >= fraction * f->o.budget)
+        return 1;
+    if (f->o.max_evals > 0 && f->evals >= (long)(fraction * (double)f->o.max_evals))
+        return 1;
+    return 0;
+}
+
+static void score_of(const Fit *f, SqFitCandidate *c)
+{
+    double s = 0;
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        s += c->obj[k] / f->r->norm[k];
+    c->score = isfinite(s) ? s : INFINITY;
+}
+
+static void set_failed(SqFitCandidate *c)
+{
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        c->obj[k] = INFINITY;
+    c->score = INFINITY;
+}
+
+/* One candidate at a fixed view scale. */
+static void evaluate(const Fit *f, SqFitCandidate *c, int size, SqTextures *maps)
+{
+    SqGenOptions go = sq_gen_options_default(size);
+    go.threads = 1;
+    SqImage strip = {0};
+    SqFeatures feat;
+    if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, c->view_scale, f->o.band_centre,
+                               STRIP_ROWS, &strip, NULL) != SQ_OK ||
+        sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
+        sq_image_free(&strip);
+        set_failed(c);
+        return;
+    }
+    sq_image_free(&strip);
+    sq_fit_objectives(f->target, &feat, c->obj);
+}
+
+/* Candidates in parallel: grid = 1 searches the view scale grid (screening). Each result
+ * depends only on its candidate, so any thread count gives the same numbers. */
+static void evaluate_all(Fit *f, SqFitCandidate *c, int n, int size, int grid)
+{
+#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
+    for (int i = 0; i < n; i++) {
+        SqTextures *maps = &f->maps[omp_get_thread_num()];
+        if (grid) {
+            if (sq_fit_score(f->target, &c[i].params, size, f->o.band_centre, maps, c[i].obj,
+                             &c[i].view_scale, NULL, NULL) != SQ_OK)
+                set_failed(&c[i]);
+        } else {
+            evaluate(f, &c[i], size, maps);
+        }
+    }
+    f->evals += n;
+}
+
+/* ---- the archive: non-dominated candidates, pruned by crowding ---- */
+
+static int archive_add(Fit *f, const SqFitCandidate *c, int n)
+{
+    int total = f->narchive + n;
+    if (total <= 0)
+        return 0;
+    SqFitCandidate *all = malloc(sizeof *all * (size_t)total);
+    double *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)total);
+    int *rank = malloc(sizeof(int) * (size_t)total);
+    double *crowd = malloc(sizeof(double) * (size_t)total);
+    if (!all || !obj || !rank || !crowd) {
+        free(all);
+        free(obj);
+        free(rank);
+        free(crowd);
+        return -1;
+    }
+    memcpy(all, f->archive, sizeof *all * (size_t)f->narchive);
+    memcpy(all + f->narchive, c, sizeof *all * (size_t)n);
+    for (int i = 0; i < total; i++)
+        memcpy(obj + (size_t)i * SQ_OBJ_COUNT, all[i].obj, sizeof all[i].obj);
+    int fail = sq_nsga2_rank(obj, total, SQ_OBJ_COUNT, rank) < 0;
+    int kept = 0;
+    if (!fail) {
+        sq_nsga2_crowding(obj, total, SQ_OBJ_COUNT, rank, crowd);
+        /* rank 0 only; beyond the cap the most crowded go first */
+        for (int i = 0; i < total; i++)
+            if (rank[i] == 0 && isfinite(all[i].score))
+                kept++;
+        while (kept > ARCHIVE_MAX) {
+            int worst = -1;
+            for (int i = 0; i < total; i++)
+                if (rank[i] == 0 && isfinite(all[i].score) &&
+                    (worst < 0 || crowd[i] < crowd[worst] ||
+                     (crowd[i] == crowd[worst] && all[i].score > all[worst].score)))
+                    worst = i;
+            rank[worst] = 1;
+            kept--;
+        }
+        int k = 0;
+        for (int i = 0; i < total && k < ARCHIVE_MAX; i++)
+            if (rank[i] == 0 && isfinite(all[i].score))
+                f->archive[k++] = all[i];
+        f->narchive = k;
+    }
+    free(all);
+    free(obj);
+    free(rank);
+    free(crowd);
+    return fail ? -1 : 0;
+}
+
+static void note_best(Fit *f, const SqFitCandidate *c, int n)
+{
+    for (int i = 0; i < n; i++) {
+        f->best_score = fmin(f->best_score, c[i].score);
+        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+            f->best_obj[k] = fmin(f->best_obj[k], c[i].obj[k]);
+    }
+}
+
+static void report(Fit *f, const char *stage, int category)
+{
+    SqFitResult *r = f->r;
+    if (r->nhistory == f->history_cap) {
+        int cap = f->history_cap ? 2 * f->history_cap : 64;
+        SqFitHistory *h = realloc(r->history, sizeof *h * (size_t)cap);
+        if (h) {
+            r->history = h;
+            f->history_cap = cap;
+        }
+    }
+    if (r->nhistory < f->history_cap) {
+        SqFitHistory *h = &r->history[r->nhistory++];
+        h->evals = f->evals;
+        h->seconds = elapsed(f);
+        h->best_score = f->best_score;
+        memcpy(h->best, f->best_obj, sizeof h->best);
+    }
+    if (!f->o.progress)
+        return;
+    SqFitProgress p = {0};
+    p.stage = stage;
+    p.generation = f->generation;
+    p.evals = f->evals;
+    p.elapsed = elapsed(f);
+    p.budget = f->o.budget;
+    p.best_score = f->best_score;
+    memcpy(p.best, f->best_obj, sizeof p.best);
+    p.category = category;
+    p.front = f->archive;
+    p.nfront = f->narchive;
+    f->o.progress(&p, f->o.ctx);
+}
+
+/* ---- stage 1: screening ---- */
+
+/* The colour parameters a category paints its pattern with. */
+static double *pattern_colours(SqParams *p, int category, double **list)
+{
+    int n = 0;
+    switch (category) {
+    case SQ_PATTERN_LONGITUDINAL: list[n++] = p->Longitudinal_StripesColor; break;
+    case SQ_PATTERN_TRANSVERSAL:
+        for (int i = 0; i < 3; i++)
+            list[n++] = p->Transversal_Color[i];
+        break;
+    case SQ_PATTERN_SPOTS: list[n++] = p->Spots_Color; break;
+    case SQ_PATTERN_OTHER_SIMPLE: list[n++] = p->CustomPattern_Color_Inside; break;
+    default: break;
+    }
+    list[n] = NULL;
+    return list[0];
+}
+
+static void set_colour(Fit *f, double *dst, int k)
+{
+    for (int c = 0; c < 3; c++)
+        dst[c] = fmin(fmax(f->pal[k][c] + 0.03 * sq__rng_normal(&f->rng), 0), 1);
+    dst[3] = 1;
+}
+
+/* Background and pattern colours from the photo's palette: usually the dominant colour
+ * under a minor one, sometimes the other way round. */
+static void colours_from_palette(Fit *f, SqParams *p, int category)
+{
+    if (f->npal == 0)
+        return;
+    int bg = 0;
+    if (f->npal > 1 && sq__rng_uniform(&f->rng) < 0.3)
+        bg = 1;
+    set_colour(f, p->Background_Color, bg);
+    double *list[8];
+    pattern_colours(p, category, list);
+    for (int i = 0; list[i]; i++) {
+        int k = bg;
+        if (f->npal > 1)
+            while (k == bg)
+                k = sq__rng_int(&f->rng, f->npal);
+        set_colour(f, list[i], k);
+    }
+    /* the outline: the darkest palette colour */
+    int dark = 0;
+    float lab[3], dl = 1e9f;
+    for (int k = 0; k < f->npal; k++) {
+        sq_fit_srgb_to_lab(f->pal[k], lab);
+        if (lab[0] < dl) {
+            dl = lab[0];
+            dark = k;
+        }
+    }
+    set_colour(f, p->Outline_Color, dark);
+}
+
+static void random_candidate(Fit *f, const SqGenome *g, SqFitCandidate *c)
+{
+    double x[SQ_GENOME_MAX];
+    sq_params_default(&c->params);
+    for (int i = 0; i < g->n; i++)
+        x[i] = sq__rng_uniform(&f->rng);
+    sq_genome_decode(g, x, &c->params);
+    colours_from_palette(f, &c->params, g->category);
+    if (g->has_ca) {
+        uint64_t s = sq__rng_next(&f->rng);
+        sq_gp_ca_random(&s, &c->params.CA_Descriptor);
+    }
+    c->params.Seed = (int)(sq__rng_next(&f->rng) & 0x7fffffff);
+    c->view_scale = 1;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int cmp_score(const void *a, const void *b)
+{
+    const SqFitCandidate *x = a, *y = b;
+    return (x->score > y->score) - (x->score < y->score);
+}
+
+/* Screens every category; fills norm and category_score; leaves the candidates sorted by
+ * score in *out. */
+static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
+{
+    int per = f->o.screen;
+    if (f->o.max_evals > 0) { /* at most 30% of an evaluation budget, at least 4 a category */
+        long cap = (long)(0.3 * (double)f->o.max_evals) / CATEGORIES;
+        per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
+    }
+    int n = per * CATEGORIES + f->o.nseeds;
+    SqFitCandidate *c = calloc((size_t)n, sizeof *c);
+    double *col = malloc(sizeof(double) * (size_t)n);
+    if (!c || !col) {
+        free(c);
+        free(col);
+        return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+    }
+    int k = 0;
+    for (int cat = 0; cat < CATEGORIES; cat++) {
+        SqGenome g;
+        if (sq_genome_init(&g, cat, err) != SQ_OK) {
+            free(c);
+            free(col);
+            return err ? err->status : SQ_ERR_INTERNAL;
+        }
+        for (int i = 0; i < per; i++)
+            random_candidate(f, &g, &c[k++]);
+    }
+    for (int i = 0; i < f->o.nseeds; i++)
+        c[k++] = f->o.seeds[i];
+    evaluate_all(f, c, n, f->o.coarse_size, 1);
+    /* the score's scale: each objective's median over the screened candidates */
+    for (int o = 0; o < SQ_OBJ_COUNT; o++) {
+        int m = 0;
+        for (int i = 0; i < n; i++)
+            if (isfinite(c[i].obj[o]))
+                col[m++] = c[i].obj[o];
+        qsort(col, (size_t)m, sizeof *col, cmp_double);
+        double med = m ? col[m / 2] : 1;
+        f->r->norm[o] = med > 1e-9 ? med : 1e-9;
+    }
+    free(col);
+    for (int i = 0; i < SQ_PATTERN_COUNT; i++)
+        f->r->category_score[i] = INFINITY;
+    for (int i = 0; i < n; i++) {
+        score_of(f, &c[i]);
+        int cat = c[i].params.Pattern_Type;
+        f->r->category_score[cat] = fmin(f->r->category_score[cat], c[i].score);
+    }
+    qsort(c, (size_t)n, sizeof *c, cmp_score);
+    note_best(f, c, n);
+    if (archive_add(f, c, n) != 0) {
+        free(c);
+        return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+    }
+    *out = c;
+    *nout = n;
+    return SQ_OK;
+}
+
+/* ---- stage 2: niches ---- */
+
+typedef struct Niche {
+    int category;
+    SqGenome g;
+    SqCmaes *es;
+    int n;                 /* genes + the view scale */
+    SqFitCandidate best;   /* the niche's best by score (noisy) */
+    SqFitCandidate *pool;  /* GP: the automata's parents, lambda of them */
+    int npool, pool_cap;
+    uint64_t gp_rng;
+} Niche;
+
+static void niche_free(Niche *z)
+{
+    sq_cmaes_free(z->es);
+    free(z->pool);
+}
+
+static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate *screened, int ns,
+                           SqError *err)
+{
+    memset(z, 0, sizeof *z);
+    z->category = category;
+    SqStatus st = sq_genome_init(&z->g, category, err);
+    if (st != SQ_OK)
+        return st;
+    z->n = z->g.n + 1;
+    const SqFitCandidate *start = NULL;
+    for (int i = 0; i < ns && !start; i++)
+        if (screened[i].params.Pattern_Type == category)
+            start = &screened[i];
+    if (!start)
+        return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no screened candidate of a niche");
+    z->best = *start;
+    double x0[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
+    int levels[SQ_GENOME_MAX + 1];
+    sq_genome_encode(&z->g, &start->params, x0);
+    x0[z->g.n] = view_to_x(start->view_scale);
+    sq_genome_levels(&z->g, levels);
+    levels[z->g.n] = 0;
+    for (int i = 0; i < z->n; i++) {
+        lo[i] = 0;
+        hi[i] = 1;
+    }
+    SqCmaesConfig c = sq_cmaes_config_default(z->n);
+    c.x0 = x0;
+    c.lower = lo;
+    c.upper = hi;
+    c.levels = levels;
+    c.sigma0 = 0.15;
+    c.lambda = 4 + (int)floor(3 * log((double)z->n)) + 4; /* a little more for the noise */
+    c.seed = sq__rng_next(&f->rng);
+    c.init_lower = lo;
+    c.init_upper = hi;
+    c.restarts = 4;
+    c.tolfun = 1e-4;
+    c.tolx = 1e-4;
+    st = sq_cmaes_new(&c, &z->es, err);
+    if (st != SQ_OK)
+        return st;
+    z->gp_rng = sq__rng_next(&f->rng);
+    if (z->g.has_ca) {
+        /* the automata of the best screened candidates of the category are the first parents */
+        int l = sq_cmaes_lambda(z->es);
+        z->pool = calloc((size_t)l, sizeof *z->pool);
+        if (!z->pool)
+            return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+        z->pool_cap = l;
+        for (int i = 0; i < ns && z->npool < l; i++)
+            if (screened[i].params.Pattern_Type == category)
+                z->pool[z->npool++] = screened[i];
+    }
+    return SQ_OK;
+}
+
+/* Child automata for a generation: tournament parents, crossover, mutation. */
+static void gp_children(Niche *z, SqFitCandidate *c, int l)
+{
+    int np = z->npool;
+    int *rank = malloc(sizeof(int) * (size_t)np);
+    double *crowd = malloc(sizeof(double) * (size_t)np), *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)np);
+    if (!rank || !crowd || !obj) {
+        free(rank);
+        free(crowd);
+        free(obj);
+        return; /* out of memory: children keep their parents' automaton */
+    }
+    for (int i = 0; i < np; i++)
+        memcpy(obj + (size_t)i * SQ_OBJ_COUNT, z->pool[i].obj, sizeof z->pool[i].obj);
+    if (sq_nsga2_rank(obj, np, SQ_OBJ_COUNT, rank) < 0)
+        memset(rank, 0, sizeof(int) * (size_t)np);
+    sq_nsga2_crowding(obj, np, SQ_OBJ_COUNT, rank, crowd);
+    for (int k = 0; k < l; k++) {
+        uint64_t *r = &z->gp_rng;
+        const SqCa *a = &z->pool[sq_gp_tournament(r, np, 5, rank, crowd)].params.CA_Descriptor;
+        SqCa child = *a;
+        double u = (double)(sq__splitmix(r) >> 11) * 0x1.0p-53;
+        if (u < 0.6) {
+            const SqCa *b = &z->pool[sq_gp_tournament(r, np, 5, rank, crowd)].params.CA_Descriptor;
+            sq_gp_ca_crossover(r, a, b, &child);
+        }
+        if ((double)(sq__splitmix(r) >> 11) * 0x1.0p-53 < 0.5)
+            sq_gp_ca_point_mutate(r, &child);
+        if ((double)(sq__splitmix(r) >> 11) * 0x1.0p-53 < 0.2)
+            sq_gp_ca_struct_mutate(r, &child);
+        c[k].params.CA_Descriptor = child;
+    }
+    free(rank);
+    free(crowd);
+    free(obj);
+}
+
+/* The pool keeps the best lambda of parents and children (NSGA-II rank, then crowding). */
+static void gp_survive(Niche *z, const SqFitCandidate *c, int l)
+{
+    int total = z->npool + l;
+    SqFitCandidate *all = malloc(sizeof *all * (size_t)total);
+    double *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)total);
+    int *rank = malloc(sizeof(int) * (size_t)total), *order = malloc(sizeof(int) * (size_t)total);
+    double *crowd = malloc(sizeof(double) * (size_t)total);
+    if (all && obj && rank && order && crowd) {
+        memcpy(all, z->pool, sizeof *all * (size_t)z->npool);
+        memcpy(all + z->npool, c, sizeof *all * (size_t)l);
+        for (int i = 0; i < total; i++)
+            memcpy(obj + (size_t)i * SQ_OBJ_COUNT, all[i].obj, sizeof all[i].obj);
+        if (sq_nsga2_rank(obj, total, SQ_OBJ_COUNT, rank) >= 0) {
+            sq_nsga2_crowding(obj, total, SQ_OBJ_COUNT, rank, crowd);
+            for (int i = 0; i < total; i++)
+                order[i] = i;
+            for (int i = 1; i < total; i++) { /* insertion sort: rank, then crowding */
+                int v = order[i], j = i;
+                while (j > 0 && (rank[order[j - 1]] > rank[v] ||
+                                 (rank[order[j - 1]] == rank[v] && crowd[order[j - 1]] < crowd[v]))) {
+                    order[j] = order[j - 1];
+                    j--;
+                }
+                order[j] = v;
+            }
+            int keep = l < total ? l : total;
+            for (int i = 0; i < keep; i++)
+                z->pool[i] = all[order[i]];
+            z->npool = keep;
+        }
+    }
+    free(all);
+    free(obj);
+    free(rank);
+    free(order);
+    free(crowd);
+}
+
+/* One generation of a niche. Returns -1 when out of memory. */
+static int niche_step(Fit *f, Niche *z)
+{
+    int l = sq_cmaes_lambda(z->es), n = z->n;
+    const double *X = sq_cmaes_ask(z->es);
+    SqFitCandidate *c = malloc(sizeof *c * (size_t)l);
+    double *fv = malloc(sizeof(double) * (size_t)l), *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)l);
+    int *rank = malloc(sizeof(int) * (size_t)l);
+    if (!c || !fv || !obj || !rank) {
+        free(c);
+        free(fv);
+        free(obj);
+        free(rank);
+        return -1;
+    }
+    int seed = (int)(sq__rng_next(&f->rng) & 0x7fffffff); /* common random numbers */
+    for (int k = 0; k < l; k++) {
+        c[k].params = z->best.params;
+        sq_genome_decode(&z->g, X + (size_t)k * n, &c[k].params);
+        c[k].params.Seed = seed;
+        c[k].view_scale = x_to_view(X[(size_t)k * n + z->g.n]);
+    }
+    if (z->g.has_ca) {
+        if (z->pool_cap < l) { /* IPOP grew lambda: so does the pool */
+            SqFitCandidate *p = realloc(z->pool, sizeof *p * (size_t)l);
+            if (!p) {
+                free(c);
+                free(fv);
+                free(obj);
+                free(rank);
+                return -1;
+            }
+            z->pool = p;
+            z->pool_cap = l;
+        }
+        gp_children(z, c, l);
+    }
+    evaluate_all(f, c, l, f->o.coarse_size, 0);
+    for (int k = 0; k < l; k++) {
+        score_of(f, &c[k]);
+        memcpy(obj + (size_t)k * SQ_OBJ_COUNT, c[k].obj, sizeof c[k].obj);
+    }
+    if (sq_nsga2_rank(obj, l, SQ_OBJ_COUNT, rank) < 0)
+        memset(rank, 0, sizeof(int) * (size_t)l);
+    /* CMA-ES sees the Pareto rank first and the score within a front */
+    for (int k = 0; k < l; k++)
+        fv[k] = isfinite(c[k].score) ? rank[k] + c[k].score / (1 + c[k].score) : NAN;
+    sq_cmaes_tell(z->es, fv);
+    if (z->g.has_ca)
+        gp_survive(z, c, l);
+    for (int k = 0; k < l; k++)
+        if (c[k].score < z->best.score)
+            z->best = c[k];
+    note_best(f, c, l);
+    int st = archive_add(f, c, l);
+    free(c);
+    free(fv);
+    free(obj);
+    free(rank);
+    return st;
+}
+
+/* ---- stage 3: re-scoring and the polish ---- */
+
+/* The mean objectives of each candidate over `reseeds` seeds at the fine size. */
+static void rescore(Fit *f, SqFitCandidate *c, int n)
+{
+    int R = f->o.reseeds > 0 ? f->o.reseeds : 1;
+    SqFitCandidate *t = malloc(sizeof *t * (size_t)n * (size_t)R);
+    if (!t) { /* out of memory: keep the noisy values */
+        return;
+    }
+    for (int i = 0; i < n; i++)
+        for (int s = 0; s < R; s++) {
+            t[i * R + s] = c[i];
+            t[i * R + s].params.Seed = 7919 * (s + 1); /* the same seeds for everyone */
+        }
+    evaluate_all(f, t, n * R, f->o.fine_size, 0);
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < SQ_OBJ_COUNT; k++) {
+            double m = 0;
+            for (int s = 0; s < R; s++)
+                m += t[i * R + s].obj[k];
+            c[i].obj[k] = m / R;
+        }
+        c[i].params.Seed = t[i * R].params.Seed;
+        score_of(f, &c[i]);
+    }
+    free(t);
+}
+
+typedef struct Polish {
+    Fit *f;
+    const SqGenome *g;
+    SqFitCandidate base;
+    int idx[SQ_GENOME_MAX + 1]; /* the continuous genes polished, g->n = the view scale */
+    int n;
+    double x[SQ_GENOME_MAX + 1];
+    nlopt_opt opt;
+    double best;
+} Polish;
+
+static void polish_candidate(const Polish *p, const double *y, SqFitCandidate *c)
+{
+    double x[SQ_GENOME_MAX + 1];
+    memcpy(x, p->x, sizeof x);
+    for (int i = 0; i < p->n; i++)
+        x[p->idx[i]] = y[i];
+    *c = p->base;
+    sq_genome_decode(p->g, x, &c->params);
+    c->view_scale = x_to_view(x[p->g->n]);
+}
+
+static double polish_objective(unsigned n, const double *y, double *grad, void *data)
+{
+    (void)n;
+    (void)grad;
+    Polish *p = data;
+    Fit *f = p->f;
+    if (out_of_budget(f, 1.0))
+        nlopt_force_stop(p->opt);
+    SqFitCandidate c;
+    polish_candidate(p, y, &c);
+    /* one fixed seed (common random numbers) and the generator's own threads */
+    SqGenOptions go = sq_gen_options_default(f->o.fine_size);
+    go.threads = f->threads;
+    SqImage strip = {0};
+    SqFeatures feat;
+    if (sq_gen_render_into(&c.params, &go, &f->maps[0], NULL) != SQ_OK ||
+        sq_fit_candidate_strip(&f->maps[0].basecolor, &f->maps[0].normal, c.view_scale,
+                               f->o.band_centre, STRIP_ROWS, &strip, NULL) != SQ_OK ||
+        sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
+        sq_image_free(&strip);
+        f->evals++;
+        return HUGE_VAL;
+    }
+    sq_image_free(&strip);
+    sq_fit_objectives(f->target, &feat, c.obj);
+    score_of(f, &c);
+    f->evals++;
+    return c.score;
+}
+
+/* Polishes the champion's continuous genes with SBPLX; keeps the result only when its
+ * re-scored score is lower. */
+static void polish(Fit *f, SqFitCandidate *champ)
+{
+    SqGenome g;
+    if (sq_genome_init(&g, champ->params.Pattern_Type, NULL) != SQ_OK)
+        return;
+    Polish p = {.f = f, .g = &g, .base = *champ};
+    sq_genome_encode(&g, &champ->params, p.x);
+    p.x[g.n] = view_to_x(champ->view_scale);
+    for (int i = 0; i < g.n; i++)
+        if (!g.genes[i].levels)
+            p.idx[p.n++] = i;
+    p.idx[p.n++] = g.n;
+    double y[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
+    for (int i = 0; i < p.n; i++) {
+        y[i] = p.x[p.idx[i]];
+        lo[i] = 0;
+        hi[i] = 1;
+    }
+    /* an evaluation budget: what the re-scoring left, less the final re-score */
+    long evals = f->o.max_evals > 0 ? f->o.max_evals - f->evals - f->o.reseeds : 100000;
+    if (evals < 10)
+        return;
+    p.opt = nlopt_create(NLOPT_LN_SBPLX, (unsigned)p.n);
+    if (!p.opt)
+        return;
+    nlopt_set_lower_bounds(p.opt, lo);
+    nlopt_set_upper_bounds(p.opt, hi);
+    nlopt_set_min_objective(p.opt, polish_objective, &p);
+    nlopt_set_initial_step1(p.opt, 0.03);
+    nlopt_set_xtol_abs1(p.opt, 1e-3);
+    nlopt_set_maxeval(p.opt, (int)evals);
+    if (f->o.budget > 0) {
+        double left = f->o.budget - elapsed(f);
+        nlopt_set_maxtime(p.opt, left > 0.1 ? left : 0.1);
+    }
+    double minf = HUGE_VAL;
+    nlopt_optimize(p.opt, y, &minf); /* any result: y holds the best point nlopt saw */
+    nlopt_destroy(p.opt);
+    SqFitCandidate c;
+    polish_candidate(&p, y, &c);
+    rescore(f, &c, 1);
+    f->r->polish_before = champ->score;
+    f->r->polish_after = c.score;
+    if (c.score < champ->score) {
+        *champ = c;
+        f->r->polish_kept = 1;
+    }
+}
+
+/* ---- baselines: one optimiser on the scalar score of the best category ---- */
+
+typedef struct Baseline {
+    Fit *f;
+    const SqGenome *g;
+    SqFitCandidate base, best;
+    nlopt_opt opt;
+    long left;
+    int seed;
+} Baseline;
+
+static double baseline_objective(unsigned n, const double *x, double *grad, void *data)
+{
+    (void)n;
+    (void)grad;
+    Baseline *b = data;
+    SqFitCandidate c = b->base;
+    sq_genome_decode(b->g, x, &c.params);
+    c.view_scale = x_to_view(x[b->g->n]);
+    c.params.Seed = b->seed;
+    /* nlopt's optimisers move the continuous genes only: the automaton stays the screened one */
+    evaluate(b->f, &c, b->f->o.coarse_size, &b->f->maps[0]);
+    b->f->evals++;
+    score_of(b->f, &c);
+    if (c.score < b->best.score)
+        b->best = c;
+    if (--b->left <= 0 || out_of_budget(b->f, 0.8))
+        nlopt_force_stop(b->opt);
+    return isfinite(c.score) ? c.score : 1e30;
+}
+
+static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *out)
+{
+    SqGenome g;
+    *out = *start;
+    if (sq_genome_init(&g, start->params.Pattern_Type, NULL) != SQ_OK)
+        return;
+    int n = g.n + 1;
+    Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed};
+    long total = f->o.max_evals > 0 ? (long)(0.8 * (double)f->o.max_evals) - f->evals : 1000000;
+    b.left = total > 1 ? total : 1;
+    double x[SQ_GENOME_MAX + 1];
+    sq_genome_encode(&g, &start->params, x);
+    x[g.n] = view_to_x(start->view_scale);
+    if (f->o.method == SQ_FIT_RANDOM) {
+        while (b.left > 0 && !out_of_budget(f, 0.8)) {
+            for (int i = 0; i < n; i++)
+                x[i] = sq__rng_uniform(&f->rng);
+            b.opt = NULL;
+            SqFitCandidate c = b.base;
+            sq_genome_decode(&g, x, &c.params);
+            c.view_scale = x_to_view(x[g.n]);
+            if (g.has_ca) {
+                uint64_t s = sq__rng_next(&f->rng);
+                sq_gp_ca_random(&s, &c.params.CA_Descriptor);
+            }
+            evaluate(f, &c, f->o.coarse_size, &f->maps[0]);
+            f->evals++;
+            b.left--;
+            score_of(f, &c);
+            if (c.score < b.best.score)
+                b.best = c;
+        }
+    } else {
+        nlopt_algorithm alg = f->o.method == SQ_FIT_ESCH ? NLOPT_GN_ESCH
+                              : f->o.method == SQ_FIT_CRS2 ? NLOPT_GN_CRS2_LM
+                                                          : NLOPT_GN_ISRES;
+        b.opt = nlopt_create(alg, (unsigned)n);
+        if (!b.opt)
+            return;
+        double lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
+        for (int i = 0; i < n; i++) {
+            lo[i] = 0;
+            hi[i] = 1;
+        }
+        nlopt_set_lower_bounds(b.opt, lo);
+        nlopt_set_upper_bounds(b.opt, hi);
+        nlopt_set_min_objective(b.opt, baseline_objective, &b);
+        nlopt_set_maxeval(b.opt, (int)(b.left < 100000000 ? b.left : 100000000));
+        nlopt_srand(sq__rng_next(&f->rng)); /* nlopt's generator is global */
+        double minf;
+        nlopt_optimize(b.opt, x, &minf);
+        nlopt_destroy(b.opt);
+    }
+    *out = b.best;
+}
+
+/* ---- the driver ---- */
+
+static void palette_of(Fit *f)
+{
+    f->npal = 0;
+    for (int k = 0; k < SQ_FIT_PALETTE; k++) {
+        if (f->target->palette_w[k] <= 0.02f)
+            continue;
+        sq_fit_lab_to_srgb(f->target->palette[k], f->pal[f->npal]);
+        f->npal++;
+    }
+}
+
+static SqStatus check_options(const SqFitOptions *o, SqError *err)
+{
+    if (!(o->budget >= 0) || !isfinite(o->budget))
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "the time budget must be a number of seconds >= 0");
+    if (o->max_evals < 0 || (o->budget == 0 && o->max_evals == 0))
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "give a time budget or an evaluation budget");
+    if (o->coarse_size < 32 || o->fine_size < 32 || o->coarse_size > 2048 || o->fine_size > 2048)
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "render sizes must be 32 to 2048 pixels");
+    if (o->screen < 2 || o->screen > 10000 || o->niches < 1 || o->niches > CATEGORIES ||
+        o->reseeds < 1 || o->reseeds > 64 || o->front_max < 1)
+        return sq_error_set(err, SQ_ERR_INVALID, "fit",
+                            "screen (2..10000), niches (1..%d), reseeds (1..64) and front_max (>= 1) "
+                            "are out of range",
+                            (int)CATEGORIES);
+    if (o->nseeds < 0 || (o->nseeds > 0 && !o->seeds))
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "seed candidates missing");
+    for (int i = 0; i < o->nseeds; i++) {
+        int t = o->seeds[i].params.Pattern_Type;
+        if (t < 0 || t >= CATEGORIES)
+            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "fit",
+                                "a starting preset has pattern type \"%s\", which cannot be fitted yet",
+                                sq_pattern_type_name(t));
+        SqStatus st = sq_params_validate(&o->seeds[i].params, err);
+        if (st != SQ_OK)
+            return st;
+    }
+    return SQ_OK;
+}
+
+/* The finalists' Pareto front, by score; the champion is its first. */
+static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
+{
+    SqFitResult *r = f->r;
+    double *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)nfin);
+    int *rank = malloc(sizeof(int) * (size_t)nfin);
+    r->front = malloc(sizeof *r->front * (size_t)nfin);
+    if (!obj || !rank || !r->front) {
+        free(obj);
+        free(rank);
+        return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+    }
+    for (int i = 0; i < nfin; i++)
+        memcpy(obj + (size_t)i * SQ_OBJ_COUNT, fin[i].obj, sizeof fin[i].obj);
+    if (sq_nsga2_rank(obj, nfin, SQ_OBJ_COUNT, rank) < 0)
+        memset(rank, 0, sizeof(int) * (size_t)nfin);
+    r->nfront = 0;
+    for (int i = 0; i < nfin; i++)
+        if (rank[i] == 0 && isfinite(fin[i].score))
+            r->front[r->nfront++] = fin[i];
+    free(obj);
+    free(rank);
+    if (r->nfront == 0)
+        return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no candidate could be rendered");
+    qsort(r->front, (size_t)r->nfront, sizeof *r->front, cmp_score);
+    if (r->nfront > f->o.front_max)
+        r->nfront = f->o.front_max;
+    r->best = r->front[0];
+    for (int i = 0; i < nfin; i++) {
+        int cat = fin[i].params.Pattern_Type;
+        r->category_score[cat] = fmin(r->category_score[cat], fin[i].score);
+    }
+    return SQ_OK;
+}
+
+SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err)
+{
+    memset(out, 0, sizeof *out);
+    SqStatus st = check_options(o, err);
+    if (st != SQ_OK)
+        return st;
+    Fit f = {.target = target, .o = *o, .r = out, .t0 = now(), .best_score = INFINITY};
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        f.best_obj[k] = INFINITY;
+    sq__rng_seed(&f.rng, o->seed);
+    f.threads = o->threads > 0 ? o->threads : omp_get_max_threads();
+    f.maps = calloc((size_t)f.threads, sizeof *f.maps);
+    f.archive = malloc(sizeof *f.archive * ARCHIVE_MAX);
+    SqFitCandidate *screened = NULL, *fin = NULL;
+    int nscreened = 0;
+    Niche niches[CATEGORIES];
+    int nn = 0;
+    if (!f.maps || !f.archive) {
+        st = sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+        goto done;
+    }
+    palette_of(&f);
+
+    /* 1. screening */
+    double t = now();
+    st = screen(&f, &screened, &nscreened, err);
+    if (st != SQ_OK)
+        goto done;
+    out->seconds[0] = now() - t;
+    report(&f, "screen", screened[0].params.Pattern_Type);
+
+    /* 2. evolution: every category is a niche at first; after each round of ROUND
+     * generations per niche the worst (by its best score) is dropped, until o->niches
+     * remain (successive halving, one at a time) */
+    t = now();
+    int nfin_max = ARCHIVE_MAX + CATEGORIES + 1;
+    fin = malloc(sizeof *fin * (size_t)nfin_max);
+    if (!fin) {
+        st = sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+        goto done;
+    }
+    int nfin = 0;
+    if (o->method == SQ_FIT_SQUAMA) {
+        enum { ROUND = 4 };
+        int alive[CATEGORIES], nalive = 0;
+        for (int cat = 0; cat < CATEGORIES; cat++) {
+            st = niche_init(&f, &niches[nn], cat, screened, nscreened, err);
+            if (st != SQ_OK)
+                goto done;
+            out->niche[cat] = 1;
+            alive[nn++] = 1;
+            nalive++;
+        }
+        int z = 0, steps = 0;
+        while (!out_of_budget(&f, 0.8)) {
+            Niche *nz = &niches[z];
+            if (niche_step(&f, nz) != 0) {
+                st = sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+                goto done;
+            }
+            f.generation++;
+            report(&f, "evolve", nz->category);
+            if (++steps == ROUND * nalive && nalive > o->niches) {
+                int worst = -1;
+                for (int i = 0; i < nn; i++)
+                    if (alive[i] && (worst < 0 || niches[i].best.score > niches[worst].best.score))
+                        worst = i;
+                alive[worst] = 0;
+                nalive--;
+                steps = 0;
+            }
+            do
+                z = (z + 1) % nn;
+            while (!alive[z]);
+        }
+        for (int i = 0; i < nn; i++) {
+            fin[nfin++] = niches[i].best;
+            out->survivor[niches[i].category] = alive[i];
+        }
+    } else {
+        out->niche[screened[0].params.Pattern_Type] = 1;
+        out->survivor[screened[0].params.Pattern_Type] = 1;
+        run_baseline(&f, &screened[0], &fin[nfin++]);
+        f.generation++;
+        report(&f, "evolve", screened[0].params.Pattern_Type);
+    }
+    out->seconds[1] = now() - t;
+    out->stopped = o->stop && *o->stop;
+
+    /* 3. re-scoring: the archive's front (squama) and the niches' bests */
+    t = now();
+    if (o->method == SQ_FIT_SQUAMA) {
+        /* the archive by score; an evaluation budget keeps the re-scoring within 90% of it */
+        long room = nfin_max - nfin;
+        if (o->max_evals > 0) {
+            long cap = ((long)(0.9 * (double)o->max_evals) - f.evals) / o->reseeds - nfin;
+            room = cap < room ? (cap > 0 ? cap : 0) : room;
+        }
+        qsort(f.archive, (size_t)f.narchive, sizeof *f.archive, cmp_score);
+        for (int i = 0; i < f.narchive && i < room; i++)
+            fin[nfin++] = f.archive[i];
+    }
+    rescore(&f, fin, nfin);
+    st = finish(&f, fin, nfin, err);
+    if (st != SQ_OK)
+        goto done;
+    out->seconds[2] = now() - t;
+    report(&f, "rescore", out->best.params.Pattern_Type);
+    if (o->polish && o->method == SQ_FIT_SQUAMA && !out->stopped) {
+        t = now();
+        polish(&f, &out->best);
+        if (out->polish_kept) { /* the polished champion leads; whoever it dominates leaves */
+            int k = 1;
+            for (int i = 1; i < out->nfront; i++)
+                if (!sq_pareto_dominates(out->best.obj, out->front[i].obj, SQ_OBJ_COUNT))
+                    out->front[k++] = out->front[i];
+            out->nfront = k;
+        }
+        out->front[0] = out->best;
+        out->seconds[3] = now() - t;
+        report(&f, "polish", out->best.params.Pattern_Type);
+    }
+    out->evals = f.evals;
+
+done:
+    for (int i = 0; i < nn; i++)
+        niche_free(&niches[i]);
+    if (f.maps)
+        for (int i = 0; i < f.threads; i++)
+            sq_gen_textures_free(&f.maps[i]);
+    free(f.maps);
+    free(f.archive);
+    free(screened);
+    free(fin);
+    if (st != SQ_OK)
+        sq_fit_result_free(out);
+    return st;
+}

@@ -1,0 +1,165 @@
+/* The fit driver on a target made from a known preset: the category comes back, the front
+ * is a front, the result does not depend on the thread count, and a stop
+ * request still yields a result. */
+#include <math.h>
+
+#include "sq_test.h"
+#include "squama/preset.h"
+#include "squama/search.h"
+
+static SqFeatures target;
+static const double TRUE_SCALE = 1.0;
+
+static int setup(void **state)
+{
+    (void)state;
+    char path[4096];
+    SqParams p;
+    SqError err;
+    if (sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), &p, NULL, &err) != SQ_OK)
+        return -1;
+    SqTextures t = {0};
+    SqGenOptions go = sq_gen_options_default(256);
+    SqImage strip;
+    int rc = sq_gen_render(&p, &go, &t, &err) == SQ_OK &&
+                     sq_fit_candidate_strip(&t.basecolor, &t.normal, TRUE_SCALE, 0.5, 256, &strip, &err) == SQ_OK &&
+                     sq_fit_features(&strip, NULL, &target, &err) == SQ_OK
+                 ? 0
+                 : -1;
+    if (rc == 0)
+        sq_image_free(&strip);
+    sq_gen_textures_free(&t);
+    return rc;
+}
+
+static SqFitOptions small(int threads)
+{
+    SqFitOptions o = sq_fit_options_default();
+    o.budget = 0;
+    o.max_evals = 1500;
+    o.screen = 12;
+    o.coarse_size = 128;
+    o.fine_size = 128;
+    o.reseeds = 2;
+    o.threads = threads;
+    o.seed = 5;
+    return o;
+}
+
+static void recovers_category(void **state)
+{
+    (void)state;
+    SqFitOptions o = small(2);
+    SqFitResult r;
+    SqError err;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    for (int c = 0; c < SQ_PATTERN_COMPLEX; c++)
+        printf("  %-14s %.3f%s\n", sq_pattern_type_name(c), r.category_score[c], r.niche[c] ? " (niche)" : "");
+    printf("  category %s, view scale %.3f, score %.3f, %ld evaluations, front %d\n",
+           sq_pattern_type_name(r.best.params.Pattern_Type), r.best.view_scale, r.best.score, r.evals, r.nfront);
+    assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
+    /* stripes along the body look the same at any view scale: it is not checked here */
+    assert_true(r.best.view_scale >= 0.25 && r.best.view_scale <= 8);
+    assert_true(r.evals >= 1500 && r.evals < 1800);
+    /* the front: sorted by score, nobody dominated, the champion first */
+    assert_true(r.nfront >= 1 && r.nfront <= o.front_max);
+    assert_memory_equal(&r.front[0].params, &r.best.params, sizeof r.best.params);
+    for (int i = 0; i < r.nfront; i++) {
+        if (i > 0 && i + 1 < r.nfront)
+            assert_true(r.front[i].score <= r.front[i + 1].score);
+        for (int j = 0; j < r.nfront; j++)
+            if (j != i)
+                assert_false(sq_pareto_dominates(r.front[j].obj, r.front[i].obj, SQ_OBJ_COUNT));
+        assert_int_equal(sq_params_validate(&r.front[i].params, NULL), SQ_OK);
+    }
+    /* every category the generator makes was screened and evolved */
+    for (int c = 0; c < SQ_PATTERN_COMPLEX; c++)
+        assert_true(isfinite(r.category_score[c]));
+    assert_false(isfinite(r.category_score[SQ_PATTERN_COMPLEX]));
+    assert_true(r.survivor[SQ_PATTERN_LONGITUDINAL]);
+    assert_true(r.nhistory >= 3);
+    for (int i = 1; i < r.nhistory; i++) /* the best so far never gets worse */
+        assert_true(r.history[i].best_score <= r.history[i - 1].best_score);
+    sq_fit_result_free(&r);
+}
+
+static void same_result_on_any_thread_count(void **state)
+{
+    (void)state;
+    SqFitOptions a = small(1), b = small(2);
+    a.max_evals = b.max_evals = 500;
+    SqFitResult ra, rb;
+    assert_int_equal(sq_fit_run(&target, &a, &ra, NULL), SQ_OK);
+    assert_int_equal(sq_fit_run(&target, &b, &rb, NULL), SQ_OK);
+    assert_int_equal(ra.evals, rb.evals);
+    assert_int_equal(ra.nfront, rb.nfront);
+    assert_memory_equal(&ra.best.params, &rb.best.params, sizeof ra.best.params);
+    assert_memory_equal(ra.best.obj, rb.best.obj, sizeof ra.best.obj);
+    sq_fit_result_free(&ra);
+    sq_fit_result_free(&rb);
+}
+
+static void stop_request_keeps_a_result(void **state)
+{
+    (void)state;
+    volatile int stop = 1;
+    SqFitOptions o = small(2);
+    o.stop = &stop;
+    SqFitResult r;
+    assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
+    assert_true(r.stopped);
+    assert_true(r.nfront >= 1);
+    assert_true(r.evals < 400); /* the screening and the re-scoring only */
+    assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    sq_fit_result_free(&r);
+}
+
+static void baselines_run_on_the_same_budget(void **state)
+{
+    (void)state;
+    for (int m = SQ_FIT_RANDOM; m <= SQ_FIT_ISRES; m++) {
+        SqFitOptions o = small(2);
+        o.max_evals = 400;
+        o.method = (SqFitMethod)m;
+        SqFitResult r;
+        assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
+        assert_true(r.evals >= 300 && r.evals <= 420); /* 80% searching, then the re-scoring */
+        assert_true(isfinite(r.best.score));
+        sq_fit_result_free(&r);
+    }
+}
+
+static void bad_options(void **state)
+{
+    (void)state;
+    SqFitOptions o = sq_fit_options_default();
+    SqFitResult r;
+    SqError err;
+    o.budget = 0;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "budget");
+    o = sq_fit_options_default();
+    o.coarse_size = 8;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "render sizes");
+    o = sq_fit_options_default();
+    SqFitCandidate seed = {0};
+    sq_params_default(&seed.params);
+    seed.params.Pattern_Type = SQ_PATTERN_COMPLEX;
+    o.seeds = &seed;
+    o.nseeds = 1;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_UNSUPPORTED);
+    assert_contains(err.what, "complex");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(recovers_category),
+        cmocka_unit_test(same_result_on_any_thread_count),
+        cmocka_unit_test(stop_request_keeps_a_result),
+        cmocka_unit_test(baselines_run_on_the_same_budget),
+        cmocka_unit_test(bad_options),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
