@@ -30,7 +30,8 @@ static const char help[] =
     "\n"
     "DIR receives:\n"
     "  best.json        the best preset (the front's lowest score: each objective divided by\n"
-    "                   its median over the screening, summed); 'squama render' takes it as is\n"
+    "                   its median over the screening, summed; a plain skin within 5% of it\n"
+    "                   is preferred); 'squama render' takes it as is\n"
     "  fit.json         the fit itself: objectives, view scale, category scores, inputs, seed,\n"
     "                   budget, timings, convergence\n"
     "  front/NN.json    the Pareto front of alternatives, best first\n"
@@ -362,7 +363,9 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
     cJSON_AddStringToObject(root, "pick_rule",
                             "the front member with the lowest score: the sum over objectives of each "
-                            "objective divided by its median over the screening (norm)");
+                            "objective divided by its median over the screening (norm); a plain "
+                            "skin (pattern none) within 5% of that score is preferred, being the "
+                            "simpler explanation");
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));

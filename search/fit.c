@@ -13,9 +13,12 @@
 
 enum {
     STRIP_ROWS = 256,       /* candidate strip length, as sq_fit_score uses */
-        ARCHIVE_MAX = 64,
+    ARCHIVE_MAX = 64,
     CATEGORIES = SQ_PATTERN_COMPLEX /* the categories the generator can make */
 };
+
+/* A plain skin scoring within this fraction of the best pattern is preferred to it. */
+static const double PARSIMONY = 0.05;
 
 /* The view scale gene: log scale over the grid's range. */
 static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
@@ -901,9 +904,33 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
     if (r->nfront == 0)
         return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no candidate could be rendered");
     qsort(r->front, (size_t)r->nfront, sizeof *r->front, cmp_score);
+    /* the simpler explanation: a plain skin within PARSIMONY of the best leads the front (a
+     * pattern whose colours match the background is a plain skin too) */
+    const SqFitCandidate *plain = NULL;
+    for (int i = 0; i < nfin; i++)
+        if (fin[i].params.Pattern_Type == SQ_PATTERN_NONE && isfinite(fin[i].score) &&
+            (!plain || fin[i].score < plain->score))
+            plain = &fin[i];
+    if (plain && plain->score <= (1 + PARSIMONY) * r->front[0].score &&
+        r->front[0].params.Pattern_Type != SQ_PATTERN_NONE) {
+        int k = r->nfront < nfin ? r->nfront : nfin - 1;
+        memmove(r->front + 1, r->front, sizeof *r->front * (size_t)k);
+        r->front[0] = *plain;
+        r->nfront = k + 1;
+        for (int i = 1; i < r->nfront; i++) /* once only */
+            if (r->front[i].params.Pattern_Type == SQ_PATTERN_NONE && r->front[i].score == plain->score &&
+                r->front[i].view_scale == plain->view_scale) {
+                memmove(r->front + i, r->front + i + 1, sizeof *r->front * (size_t)(r->nfront - i - 1));
+                r->nfront--;
+                break;
+            }
+    }
     if (r->nfront > f->o.front_max)
         r->nfront = f->o.front_max;
     r->best = r->front[0];
+    /* the categories' scores: re-scored values only (screening scores are noisier) */
+    for (int i = 0; i < SQ_PATTERN_COUNT; i++)
+        r->category_score[i] = INFINITY;
     for (int i = 0; i < nfin; i++) {
         int cat = fin[i].params.Pattern_Type;
         r->category_score[cat] = fmin(r->category_score[cat], fin[i].score);

@@ -1,0 +1,185 @@
+/* The recovery benchmark's two measuring tools (bench/recovery.py drives them):
+ *
+ *   bench_recovery truth BASE.json CATEGORY SEED OUT.json
+ *       a ground-truth preset: BASE with the pattern type CATEGORY, every gene of that
+ *       category moved by up to +-0.2 of its suggested range (and the automaton mutated),
+ *       all from SEED
+ *   bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5
+ *       how close a fitted preset is to the truth; distances are the fit's score (each
+ *       objective over its NORM, summed), means over 4 seeds of the preset(s) rendered:
+ *         palette_de00  earth mover's distance between the dominant colours (8-colour
+ *                       palettes, CIEDE2000 ground distance) of truth and fit, in texture
+ *                       space (the strip each shows at its view scale)
+ *         tex_fit       texture space: the fit's distance to the truth
+ *         tex_reseed    texture space: the truth's distance to itself under other seeds
+ *                       (near 0 for patterns without randomness: stripes, bands, automata)
+ *         photo_fit     the fit's distance to the photo
+ *         photo_truth   the truth's distance to the photo
+ *         ratio         photo_fit / photo_truth: 1 = the fit explains the photo as well as
+ *                       the true preset does
+ *   and prints them as one JSON object. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "squama/fitness.h"
+#include "squama/io.h"
+#include "squama/generator.h"
+#include "squama/preset.h"
+#include "squama/search.h"
+
+enum { SIZE = 256, ROWS = 256, RESEEDS = 4 };
+
+static int fail(const SqError *e)
+{
+    fprintf(stderr, "bench_recovery: %s (%s)\n", e->what, e->where);
+    return 1;
+}
+
+static double uniform(uint64_t *s)
+{
+    *s += 0x9e3779b97f4a7c15ull;
+    uint64_t z = *s;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+}
+
+static int truth(const char *base, const char *category, long seed, const char *out)
+{
+    SqParams p;
+    SqError e;
+    if (sq_preset_load(base, &p, NULL, &e) != SQ_OK)
+        return fail(&e);
+    int cat = -1;
+    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
+        if (strcmp(sq_pattern_type_name(c), category) == 0)
+            cat = c;
+    SqGenome g;
+    if (cat < 0) {
+        fprintf(stderr, "bench_recovery: unknown category '%s'\n", category);
+        return 1;
+    }
+    if (sq_genome_init(&g, cat, &e) != SQ_OK)
+        return fail(&e);
+    uint64_t r = 0x5eed0000u + (uint64_t)seed;
+    double x[SQ_GENOME_MAX];
+    sq_genome_encode(&g, &p, x);
+    for (int i = 0; i < g.n; i++)
+        x[i] += 0.4 * (uniform(&r) - 0.5);
+    sq_genome_decode(&g, x, &p);
+    if (g.has_ca)
+        for (int k = 0; k < 2; k++)
+            sq_gp_ca_point_mutate(&r, &p.CA_Descriptor);
+    p.Seed = (int)(seed % 100000);
+    SqPresetInfo info = {0};
+    snprintf(info.name, sizeof info.name, "recovery truth %s %ld", category, seed);
+    snprintf(info.notes, sizeof info.notes, "%s, genes moved by up to 0.2 (bench_recovery)", base);
+    char *json = sq_preset_to_json(&p, &info, &e);
+    if (!json)
+        return fail(&e);
+    FILE *f = fopen(out, "w");
+    if (!f || fputs(json, f) < 0 || fclose(f) != 0) {
+        fprintf(stderr, "bench_recovery: cannot write %s\n", out);
+        free(json);
+        return 1;
+    }
+    free(json);
+    return 0;
+}
+
+static int features(const SqParams *p, int seed, double view, SqTextures *maps, SqFeatures *out)
+{
+    SqParams q = *p;
+    q.Seed = seed;
+    SqGenOptions go = sq_gen_options_default(SIZE);
+    SqError e;
+    SqImage strip = {0};
+    if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK ||
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
+        sq_fit_features(&strip, NULL, out, &e) != SQ_OK) {
+        sq_image_free(&strip);
+        return fail(&e);
+    }
+    sq_image_free(&strip);
+    return 0;
+}
+
+static double distance(const SqFeatures *a, const SqFeatures *b, const double *norm)
+{
+    double obj[SQ_OBJ_COUNT], d = 0;
+    sq_fit_objectives(a, b, obj);
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        d += obj[k] / norm[k];
+    return d;
+}
+
+/* The photo's features, prepared with its mask as squama fit does. */
+static int photo_features(const char *photo, const char *mask, SqFeatures *out)
+{
+    SqImage img, m, bin = {0};
+    SqError e;
+    if (sq_io_read_image(photo, NULL, &img, NULL, &e) != SQ_OK)
+        return fail(&e);
+    if (sq_io_read_image(mask, NULL, &m, NULL, &e) != SQ_OK)
+        return fail(&e);
+    if (sq_image_alloc(&bin, m.width, m.height, 1, SQ_SPACE_DATA) != 0)
+        return 1;
+    for (size_t i = 0; i < (size_t)m.width * m.height; i++)
+        bin.px[i] = m.px[4 * i] >= 0.5f;
+    SqPrepOptions po = sq_fit_prep_options_default();
+    SqPrepared prep;
+    int rc = sq_fit_prepare(&img, &bin, &po, &prep, &e) != SQ_OK ||
+             sq_fit_features(&prep.strip, &prep.valid, out, &e) != SQ_OK;
+    if (rc)
+        fail(&e);
+    else
+        sq_fit_prepared_free(&prep);
+    sq_image_free(&img);
+    sq_image_free(&m);
+    sq_image_free(&bin);
+    return rc;
+}
+
+static int compare(char **argv)
+{
+    SqParams t, f;
+    SqError e;
+    if (sq_preset_load(argv[0], &t, NULL, &e) != SQ_OK || sq_preset_load(argv[2], &f, NULL, &e) != SQ_OK)
+        return fail(&e);
+    double vt = atof(argv[1]), vf = atof(argv[3]), norm[SQ_OBJ_COUNT];
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        norm[k] = atof(argv[6 + k]);
+    SqTextures maps = {0};
+    SqFeatures ph, ft, fx, fy;
+    double tfit = 0, tre = 0, pfit = 0, ptru = 0, pal = 0, obj[SQ_OBJ_COUNT];
+    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, &maps, &ft))
+        return 1;
+    for (int s = 1; s <= RESEEDS; s++) {
+        if (features(&f, 1000 + s, vf, &maps, &fx) || features(&t, 2000 + s, vt, &maps, &fy))
+            return 1;
+        tfit += distance(&ft, &fx, norm) / RESEEDS;
+        tre += distance(&ft, &fy, norm) / RESEEDS;
+        pfit += distance(&ph, &fx, norm) / RESEEDS;
+        ptru += distance(&ph, &fy, norm) / RESEEDS;
+        sq_fit_objectives(&ft, &fx, obj);
+        pal += obj[SQ_OBJ_PALETTE] / RESEEDS;
+    }
+    sq_gen_textures_free(&maps);
+    printf("{\"palette_de00\": %.4f, \"tex_fit\": %.4f, \"tex_reseed\": %.4f, \"photo_fit\": %.4f, "
+           "\"photo_truth\": %.4f, \"ratio\": %.4f}\n",
+           pal, tfit, tre, pfit, ptru, ptru > 0 ? pfit / ptru : 0.0);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 6 && strcmp(argv[1], "truth") == 0)
+        return truth(argv[2], argv[3], atol(argv[4]), argv[5]);
+    if (argc == 13 && strcmp(argv[1], "compare") == 0)
+        return compare(argv + 2);
+    fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
+                    "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5\n");
+    return 2;
+}

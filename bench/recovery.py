@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""The recovery benchmark: ground-truth presets of every category squama can fit, each
+turned into a synthetic photo (`squama photo`: varied curve, view scale, light, backdrop,
+blur, noise, colour cast), fitted with `squama fit` (with the photo's true mask: this
+measures the fit, not the masking), and compared with the truth in texture space by
+bench_recovery. The same photos are fitted by nlopt's global optimisers and by random
+search with squama's own evaluation count.
+
+Prints a table per category and overall: category accuracy, median CIEDE2000 between the
+true and fitted dominant colours, median distance ratio (the fit's feature distance to the
+photo over the true preset's: 1 = the fit explains the photo as well as the truth does; the
+texture-space ratio over a reseeded truth is kept in rows.json but degenerates for patterns
+without randomness, whose reseeded distance is near 0); then, per baseline, the median ratio of its final score
+to squama's on the same photo (> 1: squama is better) and how often squama won.
+Ends with: RESULT recovery n=... accuracy=... de00_median=... ratio_median=... <method>_score_ratio=...
+
+Work goes to --out (default build-bench/recovery); finished steps are kept and skipped on
+a rerun with the same options, so a long run can be interrupted and continued."""
+import argparse
+import json
+import os
+import random
+import statistics
+import subprocess
+import sys
+import time
+
+CATEGORIES = ["none", "longitudinal", "transversal", "spots", "other_simple"]
+BASES = {
+    "none": ["d11_five_lined_skink.json", "table_4_4_spots.json"],
+    "longitudinal": ["d11_five_lined_skink.json", "table_4_3_longitudinal.json"],
+    "transversal": ["table_4_1_transversal.json", "table_4_2_micrurus_altirostris.json"],
+    "spots": ["table_4_4_spots.json", "table_4_5_spots_interleaved.json"],
+    "other_simple": ["figure_4_9_other_simple.json"],
+}
+BASELINES = ["random", "esch", "crs2", "isres"]
+
+
+def run(cmd, log):
+    with open(log, "w") as f:
+        r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
+    if r.returncode != 0:
+        sys.exit("recovery: %s failed (exit %d), see %s" % (" ".join(cmd[:2]), r.returncode, log))
+
+
+def fit(args, photo, mask, out, extra):
+    if not os.path.exists(os.path.join(out, "fit.json")):
+        cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", "1", "--size", "256", "-q"]
+        if args.threads:
+            cmd += ["-j", str(args.threads)]
+        run(cmd + extra, out + ".log")
+    with open(os.path.join(out, "fit.json")) as f:
+        return json.load(f)
+
+
+def compare(args, truth, view_t, fitted, photo, mask, norm):
+    out = subprocess.run([args.tool, "compare", truth, "%.6f" % view_t, os.path.join(fitted["dir"], "best.json"),
+                          "%.6f" % fitted["view_scale"], photo, mask] + ["%.9g" % norm[k] for k in
+                         ["palette", "histogram", "shape", "along", "across"]],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit("recovery: compare failed: " + out.stderr)
+    return json.loads(out.stdout)
+
+
+def med(xs):
+    return statistics.median(xs) if xs else float("nan")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--squama", required=True)
+    ap.add_argument("--tool", required=True)
+    ap.add_argument("--presets", required=True)
+    ap.add_argument("--n", type=int, default=30, help="ground truths (default 30)")
+    ap.add_argument("--budget", default="60s", help="squama's time budget per photo (default 60s)")
+    ap.add_argument("--baseline-every", type=int, default=3,
+                    help="run the baselines on every K-th photo (default 3; 0: none)")
+    ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--out", default="build-bench/recovery")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    t0 = time.time()
+    for i in range(args.n):
+        cat = CATEGORIES[i % len(CATEGORIES)]
+        bases = BASES[cat]
+        base = os.path.join(args.presets, bases[(i // len(CATEGORIES)) % len(bases)])
+        d = os.path.join(args.out, "%02d_%s" % (i, cat))
+        os.makedirs(d, exist_ok=True)
+        truth = os.path.join(d, "truth.json")
+        photo = os.path.join(d, "photo.jpg")
+        if not os.path.exists(os.path.join(d, "photo_truth.json")):
+            run([args.tool, "truth", base, cat, str(i + 1), truth], os.path.join(d, "truth.log"))
+            r = random.Random(i)
+            run([args.squama, "photo", truth, "-o", photo, "--seed", str(i + 1), "--size", "800x600",
+                 "--coil", "%.2f" % r.uniform(0.2, 0.8), "--blur", "%.2f" % r.uniform(0, 1.2),
+                 "--noise", "%.3f" % r.uniform(0, 0.03), "--cast", "%.2f" % r.uniform(0, 0.1)],
+                os.path.join(d, "photo.log"))
+        with open(os.path.join(d, "photo_truth.json")) as f:
+            view_t = json.load(f)["view_scale"]
+        mask = os.path.join(d, "photo_mask.png")
+        sq = fit(args, photo, mask, os.path.join(d, "squama"), ["--budget", args.budget])
+        sq["dir"] = os.path.join(d, "squama")
+        norm = sq["norm"]
+        row = {"i": i, "category": cat, "fitted": sq["category"], "score": sq["score"],
+               "evals": sq["search"]["evaluations"], "view_t": view_t, "view_f": sq["view_scale"]}
+        row.update(compare(args, truth, view_t, sq, photo, mask, norm))
+        row["baselines"] = {}
+        if args.baseline_every and i % args.baseline_every == 0:
+            for m in BASELINES:
+                b = fit(args, photo, mask, os.path.join(d, m), ["--method", m, "--evals", str(row["evals"])])
+                b["dir"] = os.path.join(d, m)
+                c = compare(args, truth, view_t, b, photo, mask, norm)
+                row["baselines"][m] = {"score": b["score"], "ratio": c["ratio"], "category": b["category"]}
+        rows.append(row)
+        print("[%2d/%d] %-12s -> %-12s dE00 %5.2f  ratio %5.2f  view %.2f/%.2f  %d evals  %s  (%.0f min)" %
+              (i + 1, args.n, cat, sq["category"], row["palette_de00"], row["ratio"], view_t, sq["view_scale"],
+               row["evals"], " ".join("%s %.2f" % (m, v["score"] / sq["score"]) for m, v in
+                                      row["baselines"].items()), (time.time() - t0) / 60),
+              file=sys.stderr, flush=True)
+
+    print("\nrecovery: %d ground truths, squama fit --budget %s, true masks" % (args.n, args.budget))
+    print("%-14s %3s %9s %10s %12s" % ("category", "n", "accuracy", "dE00 med", "ratio med"))
+    for cat in CATEGORIES + ["all"]:
+        rs = [r for r in rows if cat in ("all", r["category"])]
+        if not rs:
+            continue
+        acc = sum(r["fitted"] == r["category"] for r in rs) / len(rs)
+        print("%-14s %3d %8.0f%% %10.2f %12.2f" % (cat, len(rs), 100 * acc, med([r["palette_de00"] for r in rs]),
+                                                 med([r["ratio"] for r in rs])))
+    acc = sum(r["fitted"] == r["category"] for r in rows) / len(rows)
+    result = ["n=%d" % len(rows), "budget=%s" % args.budget, "accuracy=%.3f" % acc,
+              "de00_median=%.2f" % med([r["palette_de00"] for r in rows]),
+              "ratio_median=%.2f" % med([r["ratio"] for r in rows])]
+    withb = [r for r in rows if r["baselines"]]
+    if withb:
+        print("\nbaselines on %d photos at squama's evaluation count (score ratio > 1: squama better)" % len(withb))
+        print("%-8s %12s %10s %12s %9s" % ("method", "score ratio", "squama won", "dist ratio", "accuracy"))
+        print("%-8s %12s %10s %12.2f %8.0f%%" % ("squama", "1.00", "-", med([r["ratio"] for r in withb]),
+                                               100 * sum(r["fitted"] == r["category"] for r in withb) / len(withb)))
+        for m in BASELINES:
+            sr = [r["baselines"][m]["score"] / r["score"] for r in withb]
+            won = sum(s > 1 for s in sr)
+            print("%-8s %12.2f %7d/%-2d %12.2f %8.0f%%" % (m, med(sr), won, len(sr),
+                                                         med([r["baselines"][m]["ratio"] for r in withb]),
+                                                         100 * sum(r["baselines"][m]["category"] == r["category"]
+                                                                   for r in withb) / len(withb)))
+            result.append("%s_score_ratio=%.2f" % (m, med(sr)))
+    with open(os.path.join(args.out, "rows.json"), "w") as f:
+        json.dump(rows, f, indent=1)
+    print("\nRESULT recovery " + " ".join(result))
+
+
+if __name__ == "__main__":
+    main()
