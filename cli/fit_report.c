@@ -182,14 +182,19 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         put(&b, "<td>%.4f</td>", r->norm[k]);
     put(&b, "<td></td></tr></table>\n");
     put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
-            "re-scored Pareto front with the lowest score. The nlopt polish moved it from %.3f to %.3f (%s).</p>\n",
-        r->polish_before, r->polish_after, r->polish_kept ? "kept" : "not kept");
-    put(&b, "<h2>Categories</h2>\n<table><tr><th>category</th><th>best score</th><th>evolved</th></tr>\n");
+            "re-scored Pareto front with the lowest score (a plain skin within 5%% of it is preferred, being the "
+            "simpler explanation). ");
+    if (r->polish_before > 0)
+        put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
+            r->polish_kept ? "kept" : "not kept");
+    else
+        put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
+    put(&b, "<h2>Categories</h2>\n<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_PATTERN_COUNT; c++) {
         if (!isfinite(r->category_score[c]))
             continue;
-        put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td>%s</td></tr>\n", sq_pattern_type_name(c),
-            r->category_score[c], r->niche[c] ? "yes" : "");
+        put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_pattern_type_name(c),
+            r->category_score[c], r->survivor[c] ? "to the end" : r->niche[c] ? "dropped on the way" : "");
     }
     put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
     convergence_svg(&b, r);

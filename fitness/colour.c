@@ -6,15 +6,22 @@
 
 #include "fitness_internal.h"
 
-enum { LIN_N = 4096, F_N = 8192 };
-static float lin_lut[LIN_N + 2]; /* sRGB code value -> linear */
+enum { LIN_N = SQ_LIN_N, F_N = 8192 };
+float sq__lin_lut[SQ_LIN_N + 2]; /* sRGB code value -> linear */
 static float f_lut[F_N + 2];     /* CIELAB f(t), t in [0, F_MAX] */
+float sq__srgb_lut[SQ_LIN_N + 2]; /* linear (i / LIN_N)^2 -> sRGB code value */
 static const float F_MAX = 1.25f;
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 
 static double srgb_to_linear(double v)
 {
     return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+
+static double linear_to_srgb(double v)
+{
+    v = v < 0 ? 0 : v > 1 ? 1 : v;
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
 }
 
 static double lab_f(double t)
@@ -26,9 +33,13 @@ static double lab_f(double t)
 static void init_luts(void)
 {
     for (int i = 0; i <= LIN_N + 1; i++)
-        lin_lut[i] = (float)srgb_to_linear(i > LIN_N ? 1.0 : (double)i / LIN_N);
+        sq__lin_lut[i] = (float)srgb_to_linear(i > LIN_N ? 1.0 : (double)i / LIN_N);
     for (int i = 0; i <= F_N + 1; i++)
         f_lut[i] = (float)lab_f((double)(i > F_N ? F_N : i) / F_N * F_MAX);
+    for (int i = 0; i <= LIN_N + 1; i++) {
+        double t = (double)(i > LIN_N ? LIN_N : i) / LIN_N;
+        sq__srgb_lut[i] = (float)linear_to_srgb(t * t);
+    }
 }
 
 /* Nearest entry of a table over [0, n / scale]: the tables are fine enough (4096 and
@@ -47,8 +58,8 @@ void sq__lab_init(void)
 void sq_fit_srgb_to_lab(const float rgb[3], float lab[3])
 {
     sq__lab_init();
-    float r = lut(lin_lut, LIN_N, rgb[0], LIN_N), g = lut(lin_lut, LIN_N, rgb[1], LIN_N),
-          b = lut(lin_lut, LIN_N, rgb[2], LIN_N);
+    float r = lut(sq__lin_lut, LIN_N, rgb[0], LIN_N), g = lut(sq__lin_lut, LIN_N, rgb[1], LIN_N),
+          b = lut(sq__lin_lut, LIN_N, rgb[2], LIN_N);
     /* linear sRGB to XYZ (D65), divided by the white point */
     float x = (0.4124564f * r + 0.3575761f * g + 0.1804375f * b) / 0.95047f;
     float y = 0.2126729f * r + 0.7151522f * g + 0.0721750f * b;
@@ -66,11 +77,6 @@ static double lab_finv(double t)
     return t > d ? t * t * t : 3 * d * d * (t - 4.0 / 29.0);
 }
 
-static double linear_to_srgb(double v)
-{
-    v = v < 0 ? 0 : v > 1 ? 1 : v;
-    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
-}
 
 void sq_fit_lab_to_srgb(const float lab[3], float rgb[3])
 {

@@ -111,26 +111,63 @@ static int cmp_float(const void *a, const void *b)
 }
 
 /* Gaussian smoothing of a 1-D signal, the ends clamped. */
+/* The k-th smallest of v[0..n) (v is reordered): Hoare's selection. */
+static float select_k(float *v, int n, int k)
+{
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        float pivot = v[(lo + hi) / 2];
+        int i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                float t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            break;
+    }
+    return v[k];
+}
+
 static void smooth1d(float *v, int n, double sigma)
 {
     if (sigma < 0.5 || n < 2)
         return;
     int rad = (int)ceil(3 * sigma);
-    float *out = malloc(sizeof(float) * (size_t)n);
-    if (!out)
+    float *out = malloc(sizeof(float) * (size_t)n), *wgt = malloc(sizeof(float) * (size_t)(rad + 1));
+    if (!out || !wgt) {
+        free(out);
+        free(wgt);
         return;
+    }
+    double ws = 0;
+    for (int k = 0; k <= rad; k++) {
+        wgt[k] = (float)exp(-0.5 * k * k / (sigma * sigma));
+        ws += k ? 2 * wgt[k] : wgt[k];
+    }
     for (int i = 0; i < n; i++) {
-        double s = 0, ws = 0;
+        double s = 0;
         for (int k = -rad; k <= rad; k++) {
             int j = i + k < 0 ? 0 : (i + k >= n ? n - 1 : i + k);
-            double wgt = exp(-0.5 * k * k / (sigma * sigma));
-            s += wgt * v[j];
-            ws += wgt;
+            s += wgt[k < 0 ? -k : k] * v[j];
         }
         out[i] = (float)(s / ws);
     }
     memcpy(v, out, sizeof(float) * (size_t)n);
     free(out);
+    free(wgt);
 }
 
 /* The photo with the skeleton (red), its longest path (yellow) and the straightened run
@@ -279,11 +316,13 @@ static SqStatus fail(SqPrepared *out, SqStatus st)
 
 /* Divides out the light: across, a smooth quadratic in theta fitted to the log of the
  * column medians (the round body's shading); along, the luminance averaged over a strip
- * width. Patterns finer than the strip's width keep their contrast. */
-static void normalise_light(SqImage *strip, const SqImage *valid)
+ * width. Patterns finer than the strip's width keep their contrast; broader ones (a pale
+ * dorsal stripe, wide bands) are flattened too, so candidate strips go through the same. */
+void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
 {
     enum { W = SQ_FIT_STRIP_W };
     const int n = strip->height;
+    sq__lab_init();
     float *lum = malloc(sizeof(float) * (size_t)n * W), *col = malloc(sizeof(float) * (size_t)n);
     float *row = malloc(sizeof(float) * (size_t)n);
     if (!lum || !col || !row) {
@@ -294,20 +333,19 @@ static void normalise_light(SqImage *strip, const SqImage *valid)
     }
     for (int i = 0; i < n * W; i++) {
         const float *p = strip->px + 3 * (size_t)i;
-        lum[i] = 0.2126f * sq_io_srgb_to_linear(p[0]) + 0.7152f * sq_io_srgb_to_linear(p[1]) +
-                 0.0722f * sq_io_srgb_to_linear(p[2]) + 1e-4f;
+        lum[i] = 0.2126f * sq__srgb_to_linear_lut(p[0]) + 0.7152f * sq__srgb_to_linear_lut(p[1]) +
+                 0.0722f * sq__srgb_to_linear_lut(p[2]) + 1e-4f;
     }
     /* across: least squares of log median = a + b t + c t^2 */
     double S[5] = {0}, T[3] = {0};
     for (int x = 0; x < W; x++) {
         int m = 0;
         for (int y = 0; y < n; y++)
-            if (valid->px[(size_t)y * W + x] > 0.5f)
+            if (!valid || valid->px[(size_t)y * W + x] > 0.5f)
                 col[m++] = lum[(size_t)y * W + x];
         if (m < 8)
             continue;
-        qsort(col, (size_t)m, sizeof(float), cmp_float);
-        double t = (x + 0.5) / W * 2 - 1, lv = log(col[m / 2]);
+        double t = (x + 0.5) / W * 2 - 1, lv = log(select_k(col, m, m / 2));
         double tp = 1;
         for (int k = 0; k < 5; k++, tp *= t)
             S[k] += tp;
@@ -333,10 +371,20 @@ static void normalise_light(SqImage *strip, const SqImage *valid)
                            B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0])) / det;
             }
     }
+    /* a lit round body darkens towards the sides by about half at most: a steeper fall is
+     * the pattern (dark flanks), and dividing it out would amplify their noise */
     double colf[W], mean = 0;
     for (int x = 0; x < W; x++) {
         double t = (x + 0.5) / W * 2 - 1;
         colf[x] = exp(coef[1] * t + coef[2] * t * t);
+        mean += colf[x] / W;
+    }
+    double top = 0;
+    for (int x = 0; x < W; x++)
+        top = fmax(top, colf[x]);
+    mean = 0;
+    for (int x = 0; x < W; x++) {
+        colf[x] = fmax(colf[x], 0.5 * top);
         mean += colf[x] / W;
     }
     /* along: the mean luminance per row (after the across correction), smoothed */
@@ -346,7 +394,7 @@ static void normalise_light(SqImage *strip, const SqImage *valid)
         double s = 0;
         int m = 0;
         for (int x = 0; x < W; x++)
-            if (valid->px[(size_t)y * W + x] > 0.5f) {
+            if (!valid || valid->px[(size_t)y * W + x] > 0.5f) {
                 s += lum[(size_t)y * W + x] / (colf[x] / mean);
                 m++;
             }
@@ -366,7 +414,7 @@ static void normalise_light(SqImage *strip, const SqImage *valid)
             float k = (float)(gmean / (row[y] * (colf[x] / mean)));
             float *p = strip->px + 3 * ((size_t)y * W + x);
             for (int c = 0; c < 3; c++)
-                p[c] = sq__clamp01(sq_io_linear_to_srgb(sq_io_srgb_to_linear(p[c]) * k));
+                p[c] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(p[c]) * k);
         }
     free(lum);
     free(col);
@@ -616,7 +664,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     }
     free(arc);
     debug_save(&o, "5_strip_raw.png", &out->strip);
-    normalise_light(&out->strip, &out->valid);
+    sq__fit_normalise_light(&out->strip, &out->valid);
     debug_save(&o, "6_strip.png", &out->strip);
     debug_save(&o, "7_strip_valid.png", &out->valid);
 

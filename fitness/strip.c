@@ -72,5 +72,6 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
             }
         }
     }
+    sq__fit_normalise_light(strip, NULL); /* as the photo's strip */
     return SQ_OK;
 }
