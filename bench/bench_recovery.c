@@ -97,7 +97,7 @@ static int features(const SqParams *p, int seed, double view, SqTextures *maps, 
     SqError e;
     SqImage strip = {0};
     if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
         sq_fit_features(&strip, NULL, out, &e) != SQ_OK) {
         sq_image_free(&strip);
         return fail(&e);

@@ -295,7 +295,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     }
     SqImage strip = {0};
     if (st == SQ_OK)
-        st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, r->best.view_scale, fo->band_centre,
+        st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, r->best.view_scale, fo->band_centre,
                                     prep->strip.height, &strip, err);
     if (st == SQ_OK) {
         snprintf(path, sizeof path, "%s/fitted_strip.png", outdir);

@@ -6,7 +6,8 @@
 /* The key light in the tangent frame (x across, y up the texture, z out). */
 static const float KEY[3] = {-0.35f, 0.55f, 0.76f};
 
-SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal, double view_scale,
+SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
+                                const SqImage *roughness, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err)
 {
     if (!basecolor || !basecolor->px || basecolor->channels < 3)
@@ -17,6 +18,9 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     if (normal && (!normal->px || normal->width != basecolor->width ||
                    normal->height != basecolor->height || normal->channels < 3))
         return sq_error_set(err, SQ_ERR_INVALID, "strip", "the normal map does not match the base colour");
+    if (roughness && (!normal || !roughness->px || roughness->width != basecolor->width ||
+                      roughness->height != basecolor->height))
+        return sq_error_set(err, SQ_ERR_INVALID, "strip", "the roughness map does not match the base colour");
     enum { SHADE_N = 256 };
     const float SHADE_MAX = 2.5f;
     float shade_lut[SHADE_N + 1];
@@ -37,6 +41,20 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         xs[i][1] = xs[i][0] + 1 == w ? 0 : xs[i][0] + 1;
         txs[i] = (float)(x - fx);
     }
+    /* the cylinder: column i looks at angle theta (the photo's strip is even in theta) */
+    float cyl[SQ_FIT_STRIP_W][2];
+    for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
+        double th = M_PI * SQ_FIT_BAND_WIDTH * (2.0 * (i + 0.5) / SQ_FIT_STRIP_W - 1.0);
+        cyl[i][0] = (float)sin(th);
+        cyl[i][1] = (float)cos(th);
+    }
+    float L[3] = {KEY[0], KEY[1], KEY[2]}, H[3] = {KEY[0], KEY[1], KEY[2] + 1.0f};
+    float hl = sqrtf(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]), ll = sqrtf(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+    for (int k = 0; k < 3; k++) {
+        H[k] /= hl;
+        L[k] /= ll;
+    }
+    sq__lab_init();
     for (int j = 0; j < length; j++) {
         double y = ((j + 0.5) * dv) * h - 0.5, fy = floor(y);
         long yi = (long)fy % h;
@@ -52,7 +70,33 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                 float top = a[k] + (b[k] - a[k]) * tx, bot = c[k] + (d[k] - c[k]) * tx;
                 o[k] = top + (bot - top) * ty;
             }
-            if (normal) { /* a key light from above and aside; flat skin keeps its colour */
+            if (normal && roughness) { /* the glossy cylinder of squama photo */
+                float n[3], t[3], rr = 0;
+                const int nc = normal->channels, rc = roughness->channels;
+                const size_t q[4] = {(size_t)y0 * w + xs[i][0], (size_t)y0 * w + xs[i][1],
+                                     (size_t)y1 * w + xs[i][0], (size_t)y1 * w + xs[i][1]};
+                const float wq[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+                t[0] = t[1] = t[2] = 0;
+                for (int k = 0; k < 4; k++) {
+                    for (int c2 = 0; c2 < 3; c2++)
+                        t[c2] += wq[k] * (2.0f * normal->px[q[k] * nc + c2] - 1.0f);
+                    rr += wq[k] * roughness->px[q[k] * rc];
+                }
+                /* tangent frame at the column's angle: across, up the texture, out (as KEY) */
+                const float sn = cyl[i][0], cs = cyl[i][1];
+                n[0] = t[0] * cs + t[2] * sn;
+                n[1] = t[1];
+                n[2] = -t[0] * sn + t[2] * cs;
+                float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
+                float diff = (n[0] * L[0] + n[1] * L[1] + n[2] * L[2]) / nl;
+                float nh = (n[0] * H[0] + n[1] * H[1] + n[2] * H[2]) / nl;
+                float g = 1.0f - rr, spec = 0;
+                if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
+                    spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
+                float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
+                for (int k = 0; k < 3; k++)
+                    o[k] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(o[k]) * shade + spec);
+            } else if (normal) { /* a key light from above and aside; flat skin keeps its colour */
                 const int nc = normal->channels;
                 const float *n0 = normal->px + ((size_t)y0 * w + xs[i][0]) * nc, *n1 = normal->px + ((size_t)y0 * w + xs[i][1]) * nc;
                 const float *n2 = normal->px + ((size_t)y1 * w + xs[i][0]) * nc, *n3 = normal->px + ((size_t)y1 * w + xs[i][1]) * nc;

@@ -132,7 +132,7 @@ static void evaluate(const Fit *f, SqFitCandidate *c, int size, SqTextures *maps
     SqImage strip = {0};
     SqFeatures feat;
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, c->view_scale, f->o.band_centre,
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, c->view_scale, f->o.band_centre,
                                STRIP_ROWS, &strip, NULL) != SQ_OK ||
         sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);
@@ -685,7 +685,7 @@ static double polish_objective(unsigned n, const double *y, double *grad, void *
     SqImage strip = {0};
     SqFeatures feat;
     if (sq_gen_render_into(&c.params, &go, &f->maps[0], NULL) != SQ_OK ||
-        sq_fit_candidate_strip(&f->maps[0].basecolor, &f->maps[0].normal, c.view_scale,
+        sq_fit_candidate_strip(&f->maps[0].basecolor, &f->maps[0].normal, &f->maps[0].roughness, c.view_scale,
                                f->o.band_centre, STRIP_ROWS, &strip, NULL) != SQ_OK ||
         sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);

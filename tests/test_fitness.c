@@ -103,7 +103,7 @@ static void features_of(const SqParams *p, double view_scale, SqFeatures *f)
     if (sq_gen_render(p, &o, &t, &err) != SQ_OK)
         fail_msg("render: %s", err.what);
     SqImage strip;
-    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, NULL, view_scale, 0.5, 256, &strip, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, NULL, NULL, view_scale, 0.5, 256, &strip, &err), SQ_OK);
     if (sq_fit_features(&strip, NULL, f, &err) != SQ_OK)
         fail_msg("features: %s", err.what);
     sq_image_free(&strip);
@@ -232,8 +232,8 @@ static void refusals(void **state)
     assert_contains(err.what, "another size");
     sq_image_free(&valid);
     SqImage none = {0};
-    assert_int_equal(sq_fit_candidate_strip(&none, NULL, 1, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
-    assert_int_equal(sq_fit_candidate_strip(&strip, NULL, 0, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_candidate_strip(&none, NULL, NULL, 1, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_candidate_strip(&strip, NULL, NULL, 0, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
     sq_image_free(&strip);
 }
 
