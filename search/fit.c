@@ -124,11 +124,11 @@ static void set_failed(SqFitCandidate *c)
     c->score = INFINITY;
 }
 
-/* One candidate at a fixed view scale. */
-static void evaluate(const Fit *f, SqFitCandidate *c, int size, SqTextures *maps)
+/* One candidate at a fixed view scale, its render on `threads` threads. */
+static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqTextures *maps)
 {
     SqGenOptions go = sq_gen_options_default(size);
-    go.threads = 1;
+    go.threads = threads;
     SqImage strip = {0};
     SqFeatures feat;
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
@@ -155,7 +155,7 @@ static void evaluate_all(Fit *f, SqFitCandidate *c, int n, int size, int grid)
                              &c[i].view_scale, NULL, NULL) != SQ_OK)
                 set_failed(&c[i]);
         } else {
-            evaluate(f, &c[i], size, maps);
+            evaluate(f, &c[i], size, 1, maps);
         }
     }
     f->evals += n;
@@ -680,22 +680,11 @@ static double polish_objective(unsigned n, const double *y, double *grad, void *
     SqFitCandidate c;
     polish_candidate(p, y, &c);
     /* one fixed seed (common random numbers) and the generator's own threads */
-    SqGenOptions go = sq_gen_options_default(f->o.fine_size);
-    go.threads = f->threads;
-    SqImage strip = {0};
-    SqFeatures feat;
-    if (sq_gen_render_into(&c.params, &go, &f->maps[0], NULL) != SQ_OK ||
-        sq_fit_candidate_strip(&f->maps[0].basecolor, &f->maps[0].normal, &f->maps[0].roughness, c.view_scale,
-                               f->o.band_centre, STRIP_ROWS, &strip, NULL) != SQ_OK ||
-        sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
-        sq_image_free(&strip);
-        f->evals++;
-        return HUGE_VAL;
-    }
-    sq_image_free(&strip);
-    sq_fit_objectives(f->target, &feat, c.obj);
+    evaluate(f, &c, f->o.fine_size, f->threads, &f->maps[0]);
     score_of(f, &c);
     f->evals++;
+    if (!isfinite(c.score))
+        return HUGE_VAL;
     return c.score;
 }
 
@@ -771,7 +760,7 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     c.view_scale = x_to_view(x[b->g->n]);
     c.params.Seed = b->seed;
     /* nlopt's optimisers move the continuous genes only: the automaton stays the screened one */
-    evaluate(b->f, &c, b->f->o.coarse_size, &b->f->maps[0]);
+    evaluate(b->f, &c, b->f->o.coarse_size, 1, &b->f->maps[0]);
     b->f->evals++;
     score_of(b->f, &c);
     if (c.score < b->best.score)
@@ -806,7 +795,7 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
                 uint64_t s = sq__rng_next(&f->rng);
                 sq_gp_ca_random(&s, &c.params.CA_Descriptor);
             }
-            evaluate(f, &c, f->o.coarse_size, &f->maps[0]);
+            evaluate(f, &c, f->o.coarse_size, 1, &f->maps[0]);
             f->evals++;
             b.left--;
             score_of(f, &c);
