@@ -15,7 +15,12 @@ to squama's on the same photo (> 1: squama is better) and how often squama won.
 Ends with: RESULT recovery n=... accuracy=... de00_median=... ratio_median=... <method>_score_ratio=...
 
 Work goes to --out (default build-bench/recovery); finished steps are kept and skipped on
-a rerun with the same options, so a long run can be interrupted and continued."""
+a rerun with the same options, so a long run can be interrupted and continued.
+
+With --fidelity nothing is fitted: each truth is scored against its own photo at its true
+view scale (`squama score --view`), which says how well the objectives can recognise the
+right answer at all (0 = the photo's statistics exactly). Ends with:
+RESULT fidelity n=... palette=... histogram=... shape=... along=... across=... (means)"""
 import argparse
 import json
 import os
@@ -63,6 +68,29 @@ def compare(args, truth, view_t, fitted, photo, mask, norm):
     return json.loads(out.stdout)
 
 
+def fidelity(args, i, cat, photo, mask, truth, view_t):
+    out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--view", "%.6f" % view_t, "--json", truth],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit("recovery: score failed: " + out.stderr)
+    o = json.loads(out.stdout)[0]["objectives"]
+    print("[%2d] %-12s " % (i, cat) + " ".join("%s %.3f" % (k, v) for k, v in o.items()), file=sys.stderr)
+    return {"i": i, "category": cat, "objectives": o}
+
+
+def fidelity_table(rows):
+    keys = ["palette", "histogram", "shape", "along", "across"]
+    print("\nfidelity: each truth scored against its own photo at its true view scale (lower is better)")
+    print("%-14s %3s " % ("category", "n") + " ".join("%10s" % k for k in keys))
+    for cat in CATEGORIES + ["all"]:
+        rs = [r for r in rows if cat in ("all", r["category"])]
+        if rs:
+            print("%-14s %3d " % (cat, len(rs)) + " ".join("%10.3f" % statistics.mean(r["objectives"][k] for r in rs)
+                                                        for k in keys))
+    print("\nRESULT fidelity n=%d " % len(rows) + " ".join("%s=%.3f" % (k, statistics.mean(r["objectives"][k] for r in rows))
+                                                       for k in keys))
+
+
 def med(xs):
     return statistics.median(xs) if xs else float("nan")
 
@@ -78,6 +106,8 @@ def main():
                     help="run the baselines on every K-th photo (default 3; 0: none)")
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--out", default="build-bench/recovery")
+    ap.add_argument("--fidelity", action="store_true",
+                    help="score each truth against its own photo instead of fitting")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows = []
@@ -100,6 +130,9 @@ def main():
         with open(os.path.join(d, "photo_truth.json")) as f:
             view_t = json.load(f)["view_scale"]
         mask = os.path.join(d, "photo_mask.png")
+        if args.fidelity:
+            rows.append(fidelity(args, i, cat, photo, mask, truth, view_t))
+            continue
         sq = fit(args, photo, mask, os.path.join(d, "squama"), ["--budget", args.budget])
         sq["dir"] = os.path.join(d, "squama")
         norm = sq["norm"]
@@ -120,6 +153,8 @@ def main():
                                       row["baselines"].items()), (time.time() - t0) / 60),
               file=sys.stderr, flush=True)
 
+    if args.fidelity:
+        return fidelity_table(rows)
     print("\nrecovery: %d ground truths, squama fit --budget %s, true masks" % (args.n, args.budget))
     print("%-14s %3s %9s %10s %12s" % ("category", "n", "accuracy", "dE00 med", "ratio med"))
     for cat in CATEGORIES + ["all"]:

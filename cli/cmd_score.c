@@ -34,19 +34,22 @@ static const char help[] =
     "      --json           an array of {preset, objectives, view_scale, rank}\n"
     "      --size N         candidate texture size (default 256)\n"
     "      --debug DIR      save the photo's preparation steps there\n"
+    "      --view S         score at view scale S only (default: the best of a grid)\n"
     "  -h, --help           show this help\n";
 
 int cmd_score(int argc, char **argv)
 {
-    enum { O_JSON = 1000, O_SIZE, O_DEBUG };
+    enum { O_JSON = 1000, O_SIZE, O_DEBUG, O_VIEW };
     static const struct option opts[] = {{"mask", required_argument, NULL, 'm'},
                                          {"json", no_argument, NULL, O_JSON},
                                          {"size", required_argument, NULL, O_SIZE},
                                          {"debug", required_argument, NULL, O_DEBUG},
+                                         {"view", required_argument, NULL, O_VIEW},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     const char *mask_path = NULL;
     int json = 0, size = 256, c;
+    double view = 0;
     SqPrepOptions po = sq_fit_prep_options_default();
     optind = 0;
     opterr = 0;
@@ -61,6 +64,11 @@ int cmd_score(int argc, char **argv)
                 return cli_usage("score", "--size must be 64 to 2048, got '%s'", optarg);
             break;
         case O_DEBUG: po.debug_dir = optarg; break;
+        case O_VIEW:
+            view = strtod(optarg, &end);
+            if (*end || !(view >= 0.05 && view <= 64))
+                return cli_usage("score", "--view must be 0.05 to 64, got '%s'", optarg);
+            break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
             if (optopt && strchr("m", optopt))
@@ -106,7 +114,7 @@ int cmd_score(int argc, char **argv)
     SqTextures maps = {0};
     for (int i = 0; i < n && rc == CLI_OK; i++) {
         SqImage strip;
-        if (sq_fit_score(&target, &params[i], size, 0.5, &maps, obj + (size_t)i * SQ_OBJ_COUNT, &scale[i],
+        if (sq_fit_score(&target, &params[i], size, 0.5, view, &maps, obj + (size_t)i * SQ_OBJ_COUNT, &scale[i],
                          po.debug_dir ? &strip : NULL, &err) != SQ_OK) {
             snprintf(err.where, sizeof err.where, "%s", presets[i]);
             rc = cli_fail(&err);

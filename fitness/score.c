@@ -13,9 +13,11 @@ double sq_fit_scale_at(int i)
 }
 
 SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, double band_centre,
-                      SqTextures *maps, double *objectives, double *view_scale, SqImage *best_strip,
-                      SqError *err)
+                      double fixed_view, SqTextures *maps, double *objectives, double *view_scale,
+                      SqImage *best_strip, SqError *err)
 {
+    if (fixed_view < 0 || !isfinite(fixed_view))
+        return sq_error_set(err, SQ_ERR_INVALID, "score", "view scale %g out of range", fixed_view);
     if (best_strip)
         memset(best_strip, 0, sizeof *best_strip);
     SqTextures own = {0};
@@ -24,11 +26,13 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
     SqGenOptions go = sq_gen_options_default(size);
     SqStatus st = sq_gen_render_into(p, &go, maps, err);
     double best = INFINITY;
-    for (int i = 0; st == SQ_OK && i < SQ_FIT_SCALES; i++) {
+    const int n = fixed_view > 0 ? 1 : SQ_FIT_SCALES;
+    for (int i = 0; st == SQ_OK && i < n; i++) {
+        const double vs = fixed_view > 0 ? fixed_view : sq_fit_scale_at(i);
         SqImage strip;
         SqFeatures f;
         double o[SQ_OBJ_COUNT];
-        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, sq_fit_scale_at(i), band_centre, CANDIDATE_ROWS,
+        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, vs, band_centre, CANDIDATE_ROWS,
                                     &strip, err);
         if (st != SQ_OK)
             break;
@@ -42,7 +46,7 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
         if (key < best) {
             best = key;
             memcpy(objectives, o, sizeof o);
-            *view_scale = sq_fit_scale_at(i);
+            *view_scale = vs;
             if (best_strip) {
                 sq_image_free(best_strip);
                 *best_strip = strip;

@@ -151,7 +151,7 @@ static void evaluate_all(Fit *f, SqFitCandidate *c, int n, int size, int grid)
     for (int i = 0; i < n; i++) {
         SqTextures *maps = &f->maps[omp_get_thread_num()];
         if (grid) {
-            if (sq_fit_score(f->target, &c[i].params, size, f->o.band_centre, maps, c[i].obj,
+            if (sq_fit_score(f->target, &c[i].params, size, f->o.band_centre, 0, maps, c[i].obj,
                              &c[i].view_scale, NULL, NULL) != SQ_OK)
                 set_failed(&c[i]);
         } else {

@@ -154,6 +154,9 @@ assert rows[0]["rank"] == 0 and rows[0]["view_scale"] > 0
 PY
 fi
 run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$TMP/typo.json"; check "score bad preset" 1 err "unknown key"
+run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" --view 1.5 "$SRC/presets/thesis/table_4_4_spots.json"
+check "score --view" 0 out "   1.50 "
+run score "$TMP/p.jpg" --view 0 "$SRC/presets/thesis/table_4_4_spots.json"; check "score --view 0" 2 err "--view must be 0.05 to 64"
 
 
 # fit (on the same photo, with a small evaluation budget)

@@ -150,7 +150,7 @@ static void check_photo_of(const char *name, unsigned seed)
     double obj[12][SQ_OBJ_COUNT], scale[12];
     SqTextures maps = {0};
     for (int i = 0; i < n; i++)
-        if (sq_fit_score(&target, &cases[i].p, 256, 0.5, &maps, obj[i], &scale[i], NULL, &err) != SQ_OK)
+        if (sq_fit_score(&target, &cases[i].p, 256, 0.5, 0, &maps, obj[i], &scale[i], NULL, &err) != SQ_OK)
             fail_msg("%s: score %s: %s", name, cases[i].what, err.what);
     sq_gen_textures_free(&maps);
 
@@ -233,7 +233,7 @@ static void stable_across_reseeding(void **state)
     for (int s = 0; s < 5; s++) {
         double o[SQ_OBJ_COUNT], k;
         p.Seed = 1000 + s;
-        assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, NULL, o, &k, NULL, &err), SQ_OK);
+        assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, 0, NULL, o, &k, NULL, &err), SQ_OK);
         for (int j = 0; j < SQ_OBJ_COUNT; j++) {
             lo[j] = s ? fmin(lo[j], o[j]) : o[j];
             hi[j] = s ? fmax(hi[j], o[j]) : o[j];
@@ -246,7 +246,7 @@ static void stable_across_reseeding(void **state)
     SqParams q;
     load("table_4_2_micrurus_altirostris", &q);
     double w[SQ_OBJ_COUNT], k;
-    assert_int_equal(sq_fit_score(&target, &q, 256, 0.5, NULL, w, &k, NULL, &err), SQ_OK);
+    assert_int_equal(sq_fit_score(&target, &q, 256, 0.5, 0, NULL, w, &k, NULL, &err), SQ_OK);
     for (int j = 0; j < SQ_OBJ_COUNT; j++)
         if (!(hi[j] < w[j]))
             fail_msg("%s: re-seeded up to %.4f, a coral preset %.4f", sq_fit_objective_name(j), hi[j], w[j]);

@@ -92,11 +92,12 @@ double sq_fit_scale_at(int i);
 /* Renders p's base colour at size x size and scores it against the target's features
  * at every view scale of the grid, keeping the scale where the scale-dependent
  * objectives (shape, along) are lowest: objectives (SQ_OBJ_COUNT) and *view_scale.
+ * A fixed_view > 0 scores at that view scale only (0: search the grid).
  * maps may be NULL, or reused between calls; best_strip (may be NULL) receives the strip
  * at the chosen scale. */
 SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, double band_centre,
-                      SqTextures *maps, double *objectives, double *view_scale, SqImage *best_strip,
-                      SqError *err);
+                      double fixed_view, SqTextures *maps, double *objectives, double *view_scale,
+                      SqImage *best_strip, SqError *err);
 
 /* ---- photo preparation (prep.c) ---- */
 
