@@ -1,10 +1,13 @@
 /* A candidate's strip: the dorsal band of its base colour map in surface units. */
 #include <math.h>
+#include <string.h>
 
 #include "fitness_internal.h"
 
 /* The key light in the tangent frame (x across, y up the texture, z out). */
 static const float KEY[3] = {-0.35f, 0.55f, 0.76f};
+
+enum { SUB_MAX = 4 }; /* sub-samples per strip pixel and direction, at most */
 
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, double view_scale,
@@ -31,11 +34,17 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     const int w = basecolor->width, h = basecolor->height, ch = basecolor->channels;
     const double du = SQ_FIT_BAND_WIDTH / SQ_FIT_STRIP_W, dv = du / view_scale;
     const double u0 = band_centre - SQ_FIT_BAND_WIDTH / 2;
+    /* A strip pixel covers du*w by dv*h texels: where that is more than one, it is the
+     * mean of a grid of samples (as a camera pixel averages the skin it sees), so a strip
+     * looks the same from a 256 or a 1024 texture, and fine scales do not alias. */
+    const int nx = (int)fmin(SUB_MAX, ceil(du * w - 1e-6)), ny = (int)fmin(SUB_MAX, ceil(dv * h - 1e-6));
+    const int sx_n = nx < 1 ? 1 : nx, sy_n = ny < 1 ? 1 : ny;
+    const float inv_n = 1.0f / (float)(sx_n * sy_n);
     /* columns: fixed for every row */
-    int xs[SQ_FIT_STRIP_W][2];
-    float txs[SQ_FIT_STRIP_W];
-    for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
-        double x = (u0 + (i + 0.5) * du) * w - 0.5, fx = floor(x);
+    int xs[SQ_FIT_STRIP_W * SUB_MAX][2];
+    float txs[SQ_FIT_STRIP_W * SUB_MAX];
+    for (int i = 0; i < SQ_FIT_STRIP_W * sx_n; i++) {
+        double x = (u0 + (i + 0.5) * du / sx_n) * w - 0.5, fx = floor(x);
         long xi = (long)fx % w;
         xs[i][0] = (int)(xi < 0 ? xi + w : xi);
         xs[i][1] = xs[i][0] + 1 == w ? 0 : xs[i][0] + 1;
@@ -55,65 +64,79 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         L[k] /= ll;
     }
     sq__lab_init();
+    const int lit = normal && roughness;
     for (int j = 0; j < length; j++) {
-        double y = ((j + 0.5) * dv) * h - 0.5, fy = floor(y);
-        long yi = (long)fy % h;
-        int y0 = (int)(yi < 0 ? yi + h : yi), y1 = y0 + 1 == h ? 0 : y0 + 1;
-        float ty = (float)(y - fy);
-        const float *r0 = basecolor->px + (size_t)y0 * w * ch, *r1 = basecolor->px + (size_t)y1 * w * ch;
-        for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
-            const float *a = r0 + (size_t)xs[i][0] * ch, *b = r0 + (size_t)xs[i][1] * ch;
-            const float *c = r1 + (size_t)xs[i][0] * ch, *d = r1 + (size_t)xs[i][1] * ch;
-            float *o = sq_image_at(strip, i, j);
-            const float tx = txs[i];
-            for (int k = 0; k < 3; k++) {
-                float top = a[k] + (b[k] - a[k]) * tx, bot = c[k] + (d[k] - c[k]) * tx;
-                o[k] = top + (bot - top) * ty;
-            }
-            if (normal && roughness) { /* the glossy cylinder of squama photo */
-                float n[3], t[3], rr = 0;
-                const int nc = normal->channels, rc = roughness->channels;
-                const size_t q[4] = {(size_t)y0 * w + xs[i][0], (size_t)y0 * w + xs[i][1],
-                                     (size_t)y1 * w + xs[i][0], (size_t)y1 * w + xs[i][1]};
-                const float wq[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-                t[0] = t[1] = t[2] = 0;
-                for (int k = 0; k < 4; k++) {
-                    for (int c2 = 0; c2 < 3; c2++)
-                        t[c2] += wq[k] * (2.0f * normal->px[q[k] * nc + c2] - 1.0f);
-                    rr += wq[k] * roughness->px[q[k] * rc];
-                }
-                /* tangent frame at the column's angle: across, up the texture, out (as KEY) */
-                const float sn = cyl[i][0], cs = cyl[i][1];
-                n[0] = t[0] * cs + t[2] * sn;
-                n[1] = t[1];
-                n[2] = -t[0] * sn + t[2] * cs;
-                float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
-                float diff = (n[0] * L[0] + n[1] * L[1] + n[2] * L[2]) / nl;
-                float nh = (n[0] * H[0] + n[1] * H[1] + n[2] * H[2]) / nl;
-                float g = 1.0f - rr, spec = 0;
-                if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
-                    spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
-                float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
-                for (int k = 0; k < 3; k++)
-                    o[k] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(o[k]) * shade + spec);
-            } else if (normal) { /* a key light from above and aside; flat skin keeps its colour */
-                const int nc = normal->channels;
-                const float *n0 = normal->px + ((size_t)y0 * w + xs[i][0]) * nc, *n1 = normal->px + ((size_t)y0 * w + xs[i][1]) * nc;
-                const float *n2 = normal->px + ((size_t)y1 * w + xs[i][0]) * nc, *n3 = normal->px + ((size_t)y1 * w + xs[i][1]) * nc;
-                float n[3];
+        float acc[SQ_FIT_STRIP_W][3];
+        memset(acc, 0, sizeof acc);
+        for (int sy = 0; sy < sy_n; sy++) {
+            double y = ((j + (sy + 0.5) / sy_n) * dv) * h - 0.5, fy = floor(y);
+            long yi = (long)fy % h;
+            int y0 = (int)(yi < 0 ? yi + h : yi), y1 = y0 + 1 == h ? 0 : y0 + 1;
+            float ty = (float)(y - fy);
+            const float *r0 = basecolor->px + (size_t)y0 * w * ch, *r1 = basecolor->px + (size_t)y1 * w * ch;
+            for (int ii = 0; ii < SQ_FIT_STRIP_W * sx_n; ii++) {
+                const int i = ii / sx_n;
+                const float *a = r0 + (size_t)xs[ii][0] * ch, *b = r0 + (size_t)xs[ii][1] * ch;
+                const float *c = r1 + (size_t)xs[ii][0] * ch, *d = r1 + (size_t)xs[ii][1] * ch;
+                const float tx = txs[ii];
+                float o[3];
                 for (int k = 0; k < 3; k++) {
-                    float top = n0[k] + (n1[k] - n0[k]) * tx, bot = n2[k] + (n3[k] - n2[k]) * tx;
-                    n[k] = 2.0f * (top + (bot - top) * ty) - 1.0f;
+                    float top = a[k] + (b[k] - a[k]) * tx, bot = c[k] + (d[k] - c[k]) * tx;
+                    o[k] = top + (bot - top) * ty;
                 }
-                float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
-                float diff = (n[0] * KEY[0] + n[1] * KEY[1] + n[2] * KEY[2]) / nl;
-                float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) / (0.30f + 0.85f * KEY[2]);
-                /* a linear factor applied to sRGB values: about its 1/2.2 power */
-                int si = (int)(shade * (SHADE_N / SHADE_MAX) + 0.5f);
-                float f = shade_lut[si < 0 ? 0 : (si > SHADE_N ? SHADE_N : si)];
-                for (int k = 0; k < 3; k++)
-                    o[k] = fminf(1.0f, o[k] * f);
+                if (lit) { /* the glossy cylinder of squama photo, summed in linear light */
+                    float n[3], t[3], rr = 0;
+                    const int nc = normal->channels, rc = roughness->channels;
+                    const size_t q[4] = {(size_t)y0 * w + xs[ii][0], (size_t)y0 * w + xs[ii][1],
+                                         (size_t)y1 * w + xs[ii][0], (size_t)y1 * w + xs[ii][1]};
+                    const float wq[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+                    t[0] = t[1] = t[2] = 0;
+                    for (int k = 0; k < 4; k++) {
+                        for (int c2 = 0; c2 < 3; c2++)
+                            t[c2] += wq[k] * (2.0f * normal->px[q[k] * nc + c2] - 1.0f);
+                        rr += wq[k] * roughness->px[q[k] * rc];
+                    }
+                    /* tangent frame at the column's angle: across, up the texture, out (as KEY) */
+                    const float sn = cyl[i][0], cs = cyl[i][1];
+                    n[0] = t[0] * cs + t[2] * sn;
+                    n[1] = t[1];
+                    n[2] = -t[0] * sn + t[2] * cs;
+                    float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
+                    float diff = (n[0] * L[0] + n[1] * L[1] + n[2] * L[2]) / nl;
+                    float nh = (n[0] * H[0] + n[1] * H[1] + n[2] * H[2]) / nl;
+                    float g = 1.0f - rr, spec = 0;
+                    if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
+                        spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
+                    float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
+                    for (int k = 0; k < 3; k++)
+                        acc[i][k] += sq__srgb_to_linear_lut(o[k]) * shade + spec;
+                } else if (normal) { /* a key light from above and aside; flat skin keeps its colour */
+                    const int nc = normal->channels;
+                    const float *n0 = normal->px + ((size_t)y0 * w + xs[ii][0]) * nc, *n1 = normal->px + ((size_t)y0 * w + xs[ii][1]) * nc;
+                    const float *n2 = normal->px + ((size_t)y1 * w + xs[ii][0]) * nc, *n3 = normal->px + ((size_t)y1 * w + xs[ii][1]) * nc;
+                    float n[3];
+                    for (int k = 0; k < 3; k++) {
+                        float top = n0[k] + (n1[k] - n0[k]) * tx, bot = n2[k] + (n3[k] - n2[k]) * tx;
+                        n[k] = 2.0f * (top + (bot - top) * ty) - 1.0f;
+                    }
+                    float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
+                    float diff = (n[0] * KEY[0] + n[1] * KEY[1] + n[2] * KEY[2]) / nl;
+                    float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) / (0.30f + 0.85f * KEY[2]);
+                    /* a linear factor applied to sRGB values: about its 1/2.2 power */
+                    int si = (int)(shade * (SHADE_N / SHADE_MAX) + 0.5f);
+                    float f = shade_lut[si < 0 ? 0 : (si > SHADE_N ? SHADE_N : si)];
+                    for (int k = 0; k < 3; k++)
+                        acc[i][k] += fminf(1.0f, o[k] * f);
+                } else {
+                    for (int k = 0; k < 3; k++)
+                        acc[i][k] += o[k];
+                }
             }
+        }
+        for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
+            float *o = sq_image_at(strip, i, j);
+            for (int k = 0; k < 3; k++)
+                o[k] = lit ? sq__linear_to_srgb_lut(acc[i][k] * inv_n) : acc[i][k] * inv_n;
         }
     }
     sq__fit_normalise_light(strip, NULL); /* as the photo's strip */

@@ -647,6 +647,45 @@ static void rescore(Fit *f, SqFitCandidate *c, int n)
     free(t);
 }
 
+/* The niche to drop: the worst by its best candidate re-scored over JUDGE_SEEDS fresh
+ * seeds. A niche's best single score is the luckiest of many noisy draws, and random
+ * patterns (spots, automata) draw far luckier minima than plain skins and stripes do. A
+ * plain skin is judged with the final choice's leniency (PARSIMONY). */
+enum { JUDGE_SEEDS = 3 };
+
+static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
+{
+    SqFitCandidate t[CATEGORIES * JUDGE_SEEDS];
+    int idx[CATEGORIES], m = 0;
+    for (int i = 0; i < nn; i++)
+        if (alive[i]) {
+            for (int s = 0; s < JUDGE_SEEDS; s++) {
+                t[m * JUDGE_SEEDS + s] = niches[i].best;
+                t[m * JUDGE_SEEDS + s].params.Seed = 104729 * (s + 1);
+            }
+            idx[m++] = i;
+        }
+    evaluate_all(f, t, m * JUDGE_SEEDS, f->o.coarse_size, 0);
+    int worst = -1;
+    double worst_score = -INFINITY;
+    for (int j = 0; j < m; j++) {
+        SqFitCandidate c = niches[idx[j]].best;
+        for (int k = 0; k < SQ_OBJ_COUNT; k++) {
+            double sum = 0;
+            for (int s = 0; s < JUDGE_SEEDS; s++)
+                sum += t[j * JUDGE_SEEDS + s].obj[k];
+            c.obj[k] = sum / JUDGE_SEEDS;
+        }
+        score_of(f, &c);
+        double sc = c.params.Pattern_Type == SQ_PATTERN_NONE ? c.score / (1 + PARSIMONY) : c.score;
+        if (sc > worst_score) {
+            worst_score = sc;
+            worst = idx[j];
+        }
+    }
+    return worst;
+}
+
 typedef struct Polish {
     Fit *f;
     const SqGenome *g;
@@ -990,10 +1029,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             f.generation++;
             report(&f, "evolve", nz->category);
             if (++steps == ROUND * nalive && nalive > o->niches) {
-                int worst = -1;
-                for (int i = 0; i < nn; i++)
-                    if (alive[i] && (worst < 0 || niches[i].best.score > niches[worst].best.score))
-                        worst = i;
+                int worst = worst_niche(&f, niches, alive, nn);
                 alive[worst] = 0;
                 nalive--;
                 steps = 0;

@@ -7,11 +7,11 @@
 
 #include "squama/search.h"
 
-/* Parameters every category searches. Roughness never reaches a photo's colour strip and is
- * left at its default. */
+/* Parameters every category searches. Roughness reaches a photo as the gloss of its
+ * highlights, which candidate strips draw. */
 static const char *const common[] = {
     "Background_Color", "Color_NoiseIntensity", "Scales_XAmount", "Scales_YAmount",
-    "ScaleShape_IsKeeled", NULL,
+    "ScaleShape_IsKeeled", "Scales_RoughnessMin", "Scales_RoughnessMax", NULL,
 };
 
 /* The pattern post-process and the outline, for every category with a pattern. */
