@@ -112,6 +112,10 @@ static void normalise(float *v, int n)
 /* Below this share of the energy a sub-band holds only what neither side models: sensor
  * noise, the fine texture of scales. */
 static const double WAVELET_FLOOR = 3e-3; /* of the total energy */
+/* Every sub-band also holds this much energy per coefficient, (L/100)^2: the grain of a
+ * camera's noise (sigma 0.015). A plain skin's few patterns then weigh as little as they
+ * are visible, instead of its noise deciding the shape of its energy. */
+static const double WAVELET_GRAIN = 2.25e-4;
 
 /* Mean energy per level and orientation of the 2-D Daubechies-4 wavelet transform of
  * 64 x 64 windows along the strip (half-overlapping), as log10 above a floor. */
@@ -150,10 +154,10 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
     double total = 0;
     for (int lvl = 0; lvl < SQ_FIT_LEVELS; lvl++)
         for (int k = 0; k < 3; k++)
-            total += windows ? e[lvl][k] / windows : 0;
+            total += (windows ? e[lvl][k] / windows : 0) + WAVELET_GRAIN;
     for (int lvl = 0; lvl < SQ_FIT_LEVELS; lvl++)
         for (int k = 0; k < 3; k++)
-            out[lvl][k] = (float)log10(WAVELET_FLOOR + (windows ? e[lvl][k] / windows : 0) /
+            out[lvl][k] = (float)log10(WAVELET_FLOOR + ((windows ? e[lvl][k] / windows : 0) + WAVELET_GRAIN) /
                                                            (total + 12 * WAVELET_FLOOR));
     gsl_wavelet_free(wv);
     gsl_wavelet_workspace_free(ws);

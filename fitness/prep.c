@@ -188,11 +188,14 @@ static float mask_at(const uint8_t *m8, int w, int h, float x, float y)
 /* Moves a smoothed centre line (n points, about a pixel apart) to the middle between the
  * mask's edges, measured along its normals, and takes the local radius from the same
  * edges. A skeleton wanders off the middle by a few pixels at bends and ragged edges,
- * which turns straight stripes into wavy ones in the strip. Where an edge is not found
- * within 1.6 radii (the body touches itself) the point keeps its place. */
+ * which turns straight stripes into wavy ones in the strip. Where the edges are not a
+ * body's width apart (the body touches itself or another part lies across it) the point
+ * keeps its place and clean[i] (n, may be NULL) is 0, within half a radius of it too. */
 static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, float *py, float *pr, int n,
-                                 double r)
+                                 double r, unsigned char *clean)
 {
+    if (clean)
+        memset(clean, 1, (size_t)n);
     float *off = malloc(sizeof(float) * (size_t)n), *rad = malloc(sizeof(float) * (size_t)n);
     unsigned char *ok = malloc((size_t)n);
     if (!off || !rad || !ok || n < 8) {
@@ -254,6 +257,18 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
     int good = 0;
     for (int i = 0; i < n; i++)
         good += ok[i];
+    if (clean && good >= n / 2) {
+        const int grow = (int)(r / 2);
+        int kept = n;
+        for (int i = 0; i < n; i++)
+            if (!ok[i])
+                for (int j = i - grow < 0 ? 0 : i - grow; j <= i + grow && j < n; j++) {
+                    kept -= clean[j];
+                    clean[j] = 0;
+                }
+        if (kept < 2 * n / 3) /* a short run loses too much: its few bad rows stay */
+            memset(clean, 1, (size_t)n);
+    }
     if (good >= n / 2) {
         for (int i = 0; i < n; i++)
             if (ok[i])
@@ -541,6 +556,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     uint8_t *m8 = malloc((size_t)w * h);
     Body body = {0};
     float *px = NULL, *py = NULL, *pr = NULL;
+    unsigned char *clean = NULL;
     SqStatus st = SQ_OK;
 #define FAIL(...)                                    \
     do {                                             \
@@ -709,7 +725,10 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     smooth1d(px, bestn, 0.5 * r);
     smooth1d(py, bestn, 0.5 * r);
     smooth1d(pr, bestn, 2 * r);
-    centre_between_edges(body.m8, w, h, px, py, pr, bestn, r);
+    clean = malloc((size_t)bestn);
+    if (!clean)
+        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+    centre_between_edges(body.m8, w, h, px, py, pr, bestn, r, clean);
     /* arc length of the smoothed curve */
     double *arc = malloc(sizeof(double) * (size_t)bestn);
     if (!arc)
@@ -746,6 +765,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         tx /= tl > 0 ? tl : 1;
         ty /= tl > 0 ? tl : 1;
         double nx = -ty, ny = tx;
+        const int row_clean = clean[seg] && clean[seg + 1 < bestn ? seg + 1 : seg];
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
             double d = rr * sin(th);
@@ -755,7 +775,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
             for (int c = 0; c < 3; c++)
                 o3[c] = inside ? sq__sample(out->photo.px, w, h, 3, c, sx, sy) : 0.0f;
             *sq_image_at(&out->valid, i, j) =
-                inside && body.m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
+                inside && row_clean && body.m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
         }
     }
     free(arc);
@@ -782,5 +802,6 @@ done:
     free(px);
     free(py);
     free(pr);
+    free(clean);
     return st == SQ_OK ? SQ_OK : fail(out, st);
 }
