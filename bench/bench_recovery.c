@@ -7,7 +7,7 @@
  *   bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5
  *       how close a fitted preset is to the truth; distances are the fit's score (each
  *       objective over its NORM, summed), means over 4 seeds of the preset(s) rendered:
- *         palette_de00  earth mover's distance between the dominant colours (8-colour
+ *         palette_de00  earth mover's distance between the dominant colours (6-colour
  *                       palettes, CIEDE2000 ground distance) of truth and fit, in texture
  *                       space (the strip each shows at its view scale)
  *         tex_fit       texture space: the fit's distance to the truth

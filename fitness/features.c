@@ -165,6 +165,64 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
     return ok ? 0 : -1;
 }
 
+/* Both sides are seen at one common resolution: a Gaussian of BLUR_SIGMA strip pixels over
+ * the CIELAB strip (normalised by the valid pixels, so the backdrop does not bleed in). A
+ * photo's strip is blurred by its lens, its JPEG and its few pixels across a body; a
+ * candidate's is sharp. On top of a common blur the difference between the two shrinks. */
+static const double BLUR_SIGMA = 1.0;
+
+static int common_blur(float *lab, const SqImage *valid, int len)
+{
+    enum { R = 3 }; /* 3 BLUR_SIGMA */
+    float k[2 * R + 1], ks = 0;
+    for (int i = -R; i <= R; i++)
+        ks += k[i + R] = (float)exp(-0.5 * i * i / (BLUR_SIGMA * BLUR_SIGMA));
+    for (int i = 0; i <= 2 * R; i++)
+        k[i] /= ks;
+    const size_t n = (size_t)W * len;
+    float *a = malloc(sizeof(float) * 4 * n), *b = malloc(sizeof(float) * 4 * n);
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++) { /* weighted values and the weight */
+        float wv = !valid || valid->px[i] > 0.5f ? 1.0f : 0.0f;
+        a[4 * i] = lab[3 * i] * wv;
+        a[4 * i + 1] = lab[3 * i + 1] * wv;
+        a[4 * i + 2] = lab[3 * i + 2] * wv;
+        a[4 * i + 3] = wv;
+    }
+    for (int y = 0; y < len; y++) /* across, clamped at the band's edges */
+        for (int x = 0; x < W; x++) {
+            float acc[4] = {0, 0, 0, 0};
+            for (int d = -R; d <= R; d++) {
+                int xx = x + d < 0 ? 0 : (x + d >= W ? W - 1 : x + d);
+                const float *p = a + 4 * ((size_t)y * W + xx);
+                for (int c = 0; c < 4; c++)
+                    acc[c] += k[d + R] * p[c];
+            }
+            memcpy(b + 4 * ((size_t)y * W + x), acc, sizeof acc);
+        }
+    for (int y = 0; y < len; y++) /* along, clamped at the ends */
+        for (int x = 0; x < W; x++) {
+            float acc[4] = {0, 0, 0, 0};
+            for (int d = -R; d <= R; d++) {
+                int yy = y + d < 0 ? 0 : (y + d >= len ? len - 1 : y + d);
+                const float *p = b + 4 * ((size_t)yy * W + x);
+                for (int c = 0; c < 4; c++)
+                    acc[c] += k[d + R] * p[c];
+            }
+            size_t i = (size_t)y * W + x;
+            if (acc[3] > 1e-3f && (!valid || valid->px[i] > 0.5f))
+                for (int c = 0; c < 3; c++)
+                    lab[3 * i + c] = acc[c] / acc[3];
+        }
+    free(a);
+    free(b);
+    return 0;
+}
+
 SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures *f, SqError *err)
 {
     memset(f, 0, sizeof *f);
@@ -186,8 +244,15 @@ SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures 
     }
     int count = 0;
     double lsum = 0;
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < n; i++)
         sq_fit_srgb_to_lab(strip->px + (size_t)i * strip->channels, lab + 3 * i);
+    if (common_blur(lab, valid, len) != 0) {
+        free(lab);
+        free(L);
+        free(sel);
+        return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for features");
+    }
+    for (int i = 0; i < n; i++) {
         if (!valid || valid->px[i] > 0.5f) {
             hist_add(f->hist, lab + 3 * i);
             lsum += lab[3 * i];

@@ -1,5 +1,5 @@
-/* The dominant colours of a strip: k-means in CIELAB, started from lightness quantiles
- * so the result is deterministic. */
+/* The dominant colours of a strip: k-means in CIELAB, started deterministically from a
+ * coarse histogram. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,26 +14,67 @@ void sq__palette(const float *lab, int n, int k, float (*centre)[3], float *weig
     memset(weight, 0, sizeof(float) * (size_t)k);
     if (n <= 0)
         return;
-    /* start: the pixels nearest the lightness quantiles, found with a histogram of L */
+    /* start: a coarse CIELAB histogram's well-filled cells, the heaviest first, then each
+     * time the cell that is heavy and far from those chosen (weight x squared distance:
+     * a deterministic k-means++). Colours of one lightness, red and green, or a few small
+     * bright spots, each get a centre; noise and highlights (thin cells) do not. */
+    enum { CB = 8 };
     int *label = malloc(sizeof(int) * (size_t)n);
-    if (!label)
+    int *cell = malloc(sizeof(int) * CB * CB * CB);
+    float(*mean)[3] = malloc(sizeof(float) * 3 * CB * CB * CB);
+    if (!label || !cell || !mean) {
+        free(label);
+        free(cell);
+        free(mean);
         return;
-    int lh[101] = {0};
+    }
+    memset(cell, 0, sizeof(int) * CB * CB * CB);
+    memset(mean, 0, sizeof(float) * 3 * CB * CB * CB);
     for (int i = 0; i < n; i++) {
-        int b = (int)lab[3 * i];
-        lh[b < 0 ? 0 : (b > 100 ? 100 : b)]++;
+        const float *p = lab + 3 * i;
+        int l = (int)(p[0] * (CB / 100.0f)), a = (int)((p[1] + 80) * (CB / 160.0f)), b = (int)((p[2] + 80) * (CB / 160.0f));
+        l = l < 0 ? 0 : (l >= CB ? CB - 1 : l);
+        a = a < 0 ? 0 : (a >= CB ? CB - 1 : a);
+        b = b < 0 ? 0 : (b >= CB ? CB - 1 : b);
+        int c = (l * CB + a) * CB + b;
+        cell[c]++;
+        for (int q = 0; q < 3; q++)
+            mean[c][q] += p[q];
     }
-    for (int c = 0; c < k; c++) {
-        int want = (int)((c + 0.5) / k * n), acc = 0, b = 0;
-        while (b < 100 && acc + lh[b] <= want)
-            acc += lh[b++];
-        float target = (float)b + 0.5f;
-        int best = 0;
-        for (int i = 0; i < n; i++)
-            if (fabsf(lab[3 * i] - target) < fabsf(lab[3 * best] - target))
-                best = i;
-        memcpy(centre[c], lab + 3 * best, sizeof(float) * 3);
+    const int least = n / 100 > 2 ? n / 100 : 2;
+    int chosen = 0;
+    for (int c = 0; c < CB * CB * CB; c++)
+        if (cell[c])
+            for (int q = 0; q < 3; q++)
+                mean[c][q] /= (float)cell[c];
+    for (; chosen < k; chosen++) {
+        int best = -1;
+        double best_v = 0;
+        for (int c = 0; c < CB * CB * CB; c++) {
+            if (cell[c] < least)
+                continue;
+            double dmin = 1e30;
+            for (int j = 0; j < chosen; j++) {
+                double d0 = mean[c][0] - centre[j][0], d1 = mean[c][1] - centre[j][1], d2 = mean[c][2] - centre[j][2];
+                dmin = fmin(dmin, d0 * d0 + d1 * d1 + d2 * d2);
+            }
+            double v = chosen ? cell[c] * dmin : cell[c];
+            if (v > best_v) {
+                best_v = v;
+                best = c;
+            }
+        }
+        if (best < 0)
+            break;
+        memcpy(centre[chosen], mean[best], sizeof(float) * 3);
     }
+    free(cell);
+    free(mean);
+    if (chosen == 0) { /* every cell thin: the first pixel */
+        memcpy(centre[0], lab, sizeof(float) * 3);
+        chosen = 1;
+    }
+    k = chosen; /* the others keep weight 0 */
     for (int iter = 0; iter < 10; iter++) {
         double sum[16][3] = {{0}};
         int cnt[16] = {0}, moved = 0;

@@ -647,6 +647,20 @@ static void rescore(Fit *f, SqFitCandidate *c, int n)
     free(t);
 }
 
+/* How simple an explanation a category is: a plain skin, then stripes or bands, then
+ * spots, then an automaton (which can imitate the others), then complex patterns. */
+static int simplicity(int category)
+{
+    switch (category) {
+    case SQ_PATTERN_NONE: return 0;
+    case SQ_PATTERN_LONGITUDINAL:
+    case SQ_PATTERN_TRANSVERSAL: return 1;
+    case SQ_PATTERN_SPOTS: return 2;
+    case SQ_PATTERN_OTHER_SIMPLE: return 3;
+    default: return 4;
+    }
+}
+
 /* The niche to drop: the worst by its best candidate re-scored over JUDGE_SEEDS fresh
  * seeds. A niche's best single score is the luckiest of many noisy draws, and random
  * patterns (spots, automata) draw far luckier minima than plain skins and stripes do. A
@@ -677,7 +691,8 @@ static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
             c.obj[k] = sum / JUDGE_SEEDS;
         }
         score_of(f, &c);
-        double sc = c.params.Pattern_Type == SQ_PATTERN_NONE ? c.score / (1 + PARSIMONY) : c.score;
+        /* the final choice's leniency for simpler categories, at most once */
+        double sc = simplicity(c.params.Pattern_Type) < 3 ? c.score / (1 + PARSIMONY) : c.score;
         if (sc > worst_score) {
             worst_score = sc;
             worst = idx[j];
@@ -932,22 +947,27 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
     if (r->nfront == 0)
         return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no candidate could be rendered");
     qsort(r->front, (size_t)r->nfront, sizeof *r->front, cmp_score);
-    /* the simpler explanation: a plain skin within PARSIMONY of the best leads the front (a
-     * pattern whose colours match the background is a plain skin too) */
-    const SqFitCandidate *plain = NULL;
-    for (int i = 0; i < nfin; i++)
-        if (fin[i].params.Pattern_Type == SQ_PATTERN_NONE && isfinite(fin[i].score) &&
-            (!plain || fin[i].score < plain->score))
-            plain = &fin[i];
-    if (plain && plain->score <= (1 + PARSIMONY) * r->front[0].score &&
-        r->front[0].params.Pattern_Type != SQ_PATTERN_NONE) {
+    /* the simpler explanation: the simplest category with a candidate within PARSIMONY of
+     * the best leads the front (a pattern whose colours match the background is a plain
+     * skin too; an automaton stretched along the body is stripes) */
+    const SqFitCandidate *simple = NULL;
+    for (int i = 0; i < nfin; i++) {
+        const SqFitCandidate *c = &fin[i];
+        if (!isfinite(c->score) || c->score > (1 + PARSIMONY) * r->front[0].score)
+            continue;
+        int rc = simplicity(c->params.Pattern_Type), rs = simple ? simplicity(simple->params.Pattern_Type) : 99;
+        if (rc < rs || (rc == rs && c->score < simple->score))
+            simple = c;
+    }
+    if (simple && simplicity(simple->params.Pattern_Type) < simplicity(r->front[0].params.Pattern_Type)) {
+        const SqFitCandidate lead = *simple;
         int k = r->nfront < nfin ? r->nfront : nfin - 1;
         memmove(r->front + 1, r->front, sizeof *r->front * (size_t)k);
-        r->front[0] = *plain;
+        r->front[0] = lead;
         r->nfront = k + 1;
         for (int i = 1; i < r->nfront; i++) /* once only */
-            if (r->front[i].params.Pattern_Type == SQ_PATTERN_NONE && r->front[i].score == plain->score &&
-                r->front[i].view_scale == plain->view_scale) {
+            if (r->front[i].params.Pattern_Type == lead.params.Pattern_Type && r->front[i].score == lead.score &&
+                r->front[i].view_scale == lead.view_scale) {
                 memmove(r->front + i, r->front + i + 1, sizeof *r->front * (size_t)(r->nfront - i - 1));
                 r->nfront--;
                 break;

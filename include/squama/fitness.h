@@ -31,7 +31,7 @@ extern "C" {
 enum {
     SQ_FIT_STRIP_W = 64,   /* strip columns (across the body) */
     SQ_FIT_HIST_BINS = 8,  /* per CIELAB axis */
-    SQ_FIT_PALETTE = 4,    /* dominant colours */
+    SQ_FIT_PALETTE = 6,    /* dominant colours */
     SQ_FIT_LEVELS = 4,     /* wavelet levels */
     SQ_FIT_BANDS = 12,     /* spectrum bands, log-spaced */
     SQ_FIT_PROFILE = SQ_FIT_STRIP_W / 2
