@@ -171,9 +171,28 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
  * candidate's is sharp. On top of a common blur the difference between the two shrinks. */
 static const double BLUR_SIGMA = 1.0;
 
+enum { BLUR_R = 3 }; /* 3 BLUR_SIGMA */
+
+/* count lines of n pixels (4 floats each; `step` pixels apart, lines `next` pixels apart),
+ * each convolved with k (2 BLUR_R + 1 taps), clamped at the ends: src to dst. */
+static void blur_lines(float *src, float *dst, int count, int n, size_t step, size_t next, const float *k)
+{
+    for (int line = 0; line < count; line++)
+        for (int i = 0; i < n; i++) {
+            float acc[4] = {0, 0, 0, 0};
+            for (int d = -BLUR_R; d <= BLUR_R; d++) {
+                int j = i + d < 0 ? 0 : (i + d >= n ? n - 1 : i + d);
+                const float *p = src + 4 * (line * next + j * step);
+                for (int c = 0; c < 4; c++)
+                    acc[c] += k[d + BLUR_R] * p[c];
+            }
+            memcpy(dst + 4 * (line * next + i * step), acc, sizeof acc);
+        }
+}
+
 static int common_blur(float *lab, const SqImage *valid, int len)
 {
-    enum { R = 3 }; /* 3 BLUR_SIGMA */
+    enum { R = BLUR_R };
     float k[2 * R + 1], ks = 0;
     for (int i = -R; i <= R; i++)
         ks += k[i + R] = (float)exp(-0.5 * i * i / (BLUR_SIGMA * BLUR_SIGMA));
@@ -181,7 +200,7 @@ static int common_blur(float *lab, const SqImage *valid, int len)
         k[i] /= ks;
     const size_t n = (size_t)W * len;
     float *a = malloc(sizeof(float) * 4 * n), *b = malloc(sizeof(float) * 4 * n);
-    if (!a || !b) {
+    if (!a || !b || len < 1) {
         free(a);
         free(b);
         return -1;
@@ -193,31 +212,12 @@ static int common_blur(float *lab, const SqImage *valid, int len)
         a[4 * i + 2] = lab[3 * i + 2] * wv;
         a[4 * i + 3] = wv;
     }
-    for (int y = 0; y < len; y++) /* across, clamped at the band's edges */
-        for (int x = 0; x < W; x++) {
-            float acc[4] = {0, 0, 0, 0};
-            for (int d = -R; d <= R; d++) {
-                int xx = x + d < 0 ? 0 : (x + d >= W ? W - 1 : x + d);
-                const float *p = a + 4 * ((size_t)y * W + xx);
-                for (int c = 0; c < 4; c++)
-                    acc[c] += k[d + R] * p[c];
-            }
-            memcpy(b + 4 * ((size_t)y * W + x), acc, sizeof acc);
-        }
-    for (int y = 0; y < len; y++) /* along, clamped at the ends */
-        for (int x = 0; x < W; x++) {
-            float acc[4] = {0, 0, 0, 0};
-            for (int d = -R; d <= R; d++) {
-                int yy = y + d < 0 ? 0 : (y + d >= len ? len - 1 : y + d);
-                const float *p = b + 4 * ((size_t)yy * W + x);
-                for (int c = 0; c < 4; c++)
-                    acc[c] += k[d + R] * p[c];
-            }
-            size_t i = (size_t)y * W + x;
-            if (acc[3] > 1e-3f && (!valid || valid->px[i] > 0.5f))
-                for (int c = 0; c < 3; c++)
-                    lab[3 * i + c] = acc[c] / acc[3];
-        }
+    blur_lines(a, b, len, W, 1, W, k); /* across, clamped at the band's edges */
+    blur_lines(b, a, W, len, W, 1, k);   /* along, clamped at the ends */
+    for (size_t i = 0; i < n; i++)
+        if (a[4 * i + 3] > 1e-3f && (!valid || valid->px[i] > 0.5f))
+            for (int c = 0; c < 3; c++)
+                lab[3 * i + c] = a[4 * i + c] / a[4 * i + 3];
     free(a);
     free(b);
     return 0;
