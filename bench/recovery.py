@@ -87,6 +87,8 @@ def fidelity_table(rows):
         if rs:
             print("%-14s %3d " % (cat, len(rs)) + " ".join("%10.3f" % statistics.mean(r["objectives"][k] for r in rs)
                                                         for k in keys))
+    if not rows:
+        return print("\nRESULT fidelity n=0")
     print("\nRESULT fidelity n=%d " % len(rows) + " ".join("%s=%.3f" % (k, statistics.mean(r["objectives"][k] for r in rows))
                                                        for k in keys))
 

@@ -30,8 +30,9 @@ static const char help[] =
     "\n"
     "DIR receives:\n"
     "  best.json        the best preset (the front's lowest score: each objective divided by\n"
-    "                   its median over the screening, summed; a plain skin within 5% of it\n"
-    "                   is preferred); 'squama render' takes it as is\n"
+    "                   its median over the screening, summed; the simplest category within\n"
+    "                   5% of it is preferred: plain, stripes or bands, spots, automata);\n"
+    "                   'squama render' takes it as is\n"
     "  fit.json         the fit itself: objectives, view scale, category scores, inputs, seed,\n"
     "                   budget, timings, convergence\n"
     "  front/NN.json    the Pareto front of alternatives, best first\n"
@@ -363,9 +364,10 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
     cJSON_AddStringToObject(root, "pick_rule",
                             "the front member with the lowest score: the sum over objectives of each "
-                            "objective divided by its median over the screening (norm); a plain "
-                            "skin (pattern none) within 5% of that score is preferred, being the "
-                            "simpler explanation");
+                            "objective divided by its median over the screening (norm); the simplest "
+                            "category within 5% of that score is preferred (none, then longitudinal "
+                            "or transversal, then spots, then other_simple), being the simpler "
+                            "explanation");
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));

@@ -182,8 +182,8 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         put(&b, "<td>%.4f</td>", r->norm[k]);
     put(&b, "<td></td></tr></table>\n");
     put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
-            "re-scored Pareto front with the lowest score (a plain skin within 5%% of it is preferred, being the "
-            "simpler explanation). ");
+            "re-scored Pareto front with the lowest score, except that the simplest category within 5%% of it is "
+            "preferred (plain, then stripes or bands, then spots, then automata: the simpler explanation). ");
     if (r->polish_before > 0)
         put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");

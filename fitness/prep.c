@@ -197,10 +197,12 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
     if (clean)
         memset(clean, 1, (size_t)n);
     float *off = malloc(sizeof(float) * (size_t)n), *rad = malloc(sizeof(float) * (size_t)n);
+    float *nrm = malloc(sizeof(float) * 2 * (size_t)n);
     unsigned char *ok = malloc((size_t)n);
-    if (!off || !rad || !ok || n < 8) {
+    if (!off || !rad || !nrm || !ok || n < 8) {
         free(off);
         free(rad);
+        free(nrm);
         free(ok);
         return;
     }
@@ -214,9 +216,12 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
             ok[i] = 0;
             off[i] = 0;
             rad[i] = pr[i];
+            nrm[2 * i] = nrm[2 * i + 1] = 0;
             if (!(tl > 0))
                 continue;
             const float nx = -ty / tl, ny = tx / tl;
+            nrm[2 * i] = nx;
+            nrm[2 * i + 1] = ny;
             float edge[2] = {-1, -1};
             for (int side = 0; side < 2; side++) {
                 const float sg = side ? -1.0f : 1.0f;
@@ -234,7 +239,7 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
             }
             /* both edges at about a radius, and the width the distance map says: a far
              * edge is another part of the body touching this one */
-            if (edge[0] > 0.4 * r && edge[1] > 0.4 * r && fabsf(edge[0] + edge[1] - 2 * pr[i]) < 0.3 * r) {
+            if (edge[0] > 0.4f * pr[i] && edge[1] > 0.4f * pr[i] && fabsf(edge[0] + edge[1] - 2 * pr[i]) < 0.3 * r) {
                 off[i] = 0.5f * (edge[0] - edge[1]);
                 rad[i] = 0.5f * (edge[0] + edge[1]);
                 ok[i] = 1;
@@ -244,13 +249,9 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
         if (good < n / 2)
             break;
         smooth1d(off, n, 0.5 * r);
-        for (int i = 0; i < n; i++) {
-            int a = i - k < 0 ? 0 : i - k, b = i + k >= n ? n - 1 : i + k;
-            float tx = px[b] - px[a], ty = py[b] - py[a], tl = hypotf(tx, ty);
-            if (tl > 0) {
-                px[i] += off[i] * -ty / tl;
-                py[i] += off[i] * tx / tl;
-            }
+        for (int i = 0; i < n; i++) { /* along the normals the edges were measured on */
+            px[i] += off[i] * nrm[2 * i];
+            py[i] += off[i] * nrm[2 * i + 1];
         }
     }
     /* the radius from the edges where both were found */
@@ -277,6 +278,7 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
     }
     free(off);
     free(rad);
+    free(nrm);
     free(ok);
 }
 

@@ -16,10 +16,10 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
                       double fixed_view, SqTextures *maps, double *objectives, double *view_scale,
                       SqImage *best_strip, SqError *err)
 {
-    if (fixed_view < 0 || !isfinite(fixed_view))
-        return sq_error_set(err, SQ_ERR_INVALID, "score", "view scale %g out of range", fixed_view);
     if (best_strip)
         memset(best_strip, 0, sizeof *best_strip);
+    if (fixed_view < 0 || !isfinite(fixed_view))
+        return sq_error_set(err, SQ_ERR_INVALID, "score", "view scale %g out of range", fixed_view);
     SqTextures own = {0};
     if (!maps)
         maps = &own;
@@ -43,7 +43,7 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
         }
         sq_fit_objectives(target, &f, o);
         double key = o[SQ_OBJ_SHAPE] + o[SQ_OBJ_ALONG];
-        if (key < best) {
+        if (i == 0 || key < best || isnan(best)) {
             best = key;
             memcpy(objectives, o, sizeof o);
             *view_scale = vs;

@@ -36,7 +36,9 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     const double u0 = band_centre - SQ_FIT_BAND_WIDTH / 2;
     /* A strip pixel covers du*w by dv*h texels: where that is more than one, it is the
      * mean of a grid of samples (as a camera pixel averages the skin it sees), so a strip
-     * looks the same from a 256 or a 1024 texture, and fine scales do not alias. */
+     * looks about the same from a 256 or a 1024 texture, and fine scales do not alias. At
+     * most SUB_MAX samples a direction: a 1024 texture at the smallest view scales (a
+     * footprint of 20 texels along) is still undersampled, which fits never ask for. */
     const int nx = (int)fmin(SUB_MAX, ceil(du * w - 1e-6)), ny = (int)fmin(SUB_MAX, ceil(dv * h - 1e-6));
     const int sx_n = nx < 1 ? 1 : nx, sy_n = ny < 1 ? 1 : ny;
     const float inv_n = 1.0f / (float)(sx_n * sy_n);
@@ -127,16 +129,16 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float f = shade_lut[si < 0 ? 0 : (si > SHADE_N ? SHADE_N : si)];
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += fminf(1.0f, o[k] * f);
-                } else {
+                } else { /* base colour only: averaged in linear light too */
                     for (int k = 0; k < 3; k++)
-                        acc[i][k] += o[k];
+                        acc[i][k] += sq__srgb_to_linear_lut(o[k]);
                 }
             }
         }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             float *o = sq_image_at(strip, i, j);
             for (int k = 0; k < 3; k++)
-                o[k] = lit ? sq__linear_to_srgb_lut(acc[i][k] * inv_n) : acc[i][k] * inv_n;
+                o[k] = lit || !normal ? sq__linear_to_srgb_lut(acc[i][k] * inv_n) : acc[i][k] * inv_n;
         }
     }
     sq__fit_normalise_light(strip, NULL); /* as the photo's strip */

@@ -17,7 +17,8 @@ enum {
     CATEGORIES = SQ_PATTERN_COMPLEX /* the categories the generator can make */
 };
 
-/* A plain skin scoring within this fraction of the best pattern is preferred to it. */
+/* A simpler category (see simplicity()) scoring within this fraction of the best is
+ * preferred to it. */
 static const double PARSIMONY = 0.05;
 
 /* The view scale gene: log scale over the grid's range. */
@@ -662,15 +663,17 @@ static int simplicity(int category)
 }
 
 /* The niche to drop: the worst by its best candidate re-scored over JUDGE_SEEDS fresh
- * seeds. A niche's best single score is the luckiest of many noisy draws, and random
- * patterns (spots, automata) draw far luckier minima than plain skins and stripes do. A
- * plain skin is judged with the final choice's leniency (PARSIMONY). */
+ * seeds (a niche's best single score is the luckiest of many noisy draws, and random
+ * patterns draw far luckier minima than plain skins and stripes do); but of the niches
+ * within PARSIMONY of the worst, the least simple goes, as the final choice keeps the
+ * simplest within PARSIMONY of the best. */
 enum { JUDGE_SEEDS = 3 };
 
 static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
 {
     SqFitCandidate t[CATEGORIES * JUDGE_SEEDS];
     int idx[CATEGORIES], m = 0;
+    double judged[CATEGORIES];
     for (int i = 0; i < nn; i++)
         if (alive[i]) {
             for (int s = 0; s < JUDGE_SEEDS; s++) {
@@ -680,7 +683,6 @@ static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
             idx[m++] = i;
         }
     evaluate_all(f, t, m * JUDGE_SEEDS, f->o.coarse_size, 0);
-    int worst = -1;
     double worst_score = -INFINITY;
     for (int j = 0; j < m; j++) {
         SqFitCandidate c = niches[idx[j]].best;
@@ -691,14 +693,22 @@ static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
             c.obj[k] = sum / JUDGE_SEEDS;
         }
         score_of(f, &c);
-        /* the final choice's leniency for simpler categories, at most once */
-        double sc = simplicity(c.params.Pattern_Type) < 3 ? c.score / (1 + PARSIMONY) : c.score;
-        if (sc > worst_score) {
-            worst_score = sc;
-            worst = idx[j];
-        }
+        judged[j] = c.score;
+        worst_score = fmax(worst_score, c.score);
     }
-    return worst;
+    int worst = -1;
+    for (int j = 0; j < m; j++) {
+        if (!(judged[j] * (1 + PARSIMONY) >= worst_score))
+            continue;
+        if (worst < 0) {
+            worst = j;
+            continue;
+        }
+        int sj = simplicity(niches[idx[j]].category), sw = simplicity(niches[idx[worst]].category);
+        if (sj > sw || (sj == sw && judged[j] > judged[worst]))
+            worst = j;
+    }
+    return idx[worst < 0 ? 0 : worst];
 }
 
 typedef struct Polish {

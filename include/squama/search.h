@@ -168,7 +168,8 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
  *     round of generations the worst niche is dropped until `niches` remain;
  *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
  *     over several seeds at the fine size; the champion picked from the re-scored front
- *     (see SqFitResult.norm; a plain skin within 5% of the best is preferred); the champion polished by nlopt's SBPLX and kept polished only
+ *     (see SqFitResult.norm; the simplest category within 5% of the best is preferred: plain,
+ *     stripes or bands, spots, automata); the champion polished by nlopt's SBPLX and kept polished only
  *     when the re-scored polish is better.
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
