@@ -192,11 +192,10 @@ static void blur_lines(float *src, float *dst, int count, int n, size_t step, si
 
 static int common_blur(float *lab, const SqImage *valid, int len)
 {
-    enum { R = BLUR_R };
-    float k[2 * R + 1], ks = 0;
-    for (int i = -R; i <= R; i++)
-        ks += k[i + R] = (float)exp(-0.5 * i * i / (BLUR_SIGMA * BLUR_SIGMA));
-    for (int i = 0; i <= 2 * R; i++)
+    float k[2 * BLUR_R + 1], ks = 0;
+    for (int i = -BLUR_R; i <= BLUR_R; i++)
+        ks += k[i + BLUR_R] = (float)exp(-0.5 * i * i / (BLUR_SIGMA * BLUR_SIGMA));
+    for (int i = 0; i <= 2 * BLUR_R; i++)
         k[i] /= ks;
     const size_t n = (size_t)W * len;
     float *a = malloc(sizeof(float) * 4 * n), *b = malloc(sizeof(float) * 4 * n);

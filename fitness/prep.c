@@ -190,12 +190,11 @@ static float mask_at(const uint8_t *m8, int w, int h, float x, float y)
  * edges. A skeleton wanders off the middle by a few pixels at bends and ragged edges,
  * which turns straight stripes into wavy ones in the strip. Where the edges are not a
  * body's width apart (the body touches itself or another part lies across it) the point
- * keeps its place and clean[i] (n, may be NULL) is 0, within half a radius of it too. */
+ * keeps its place and clean[i] (n flags) is 0, within half a radius of it too. */
 static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, float *py, float *pr, int n,
                                  double r, unsigned char *clean)
 {
-    if (clean)
-        memset(clean, 1, (size_t)n);
+    memset(clean, 1, (size_t)n);
     float *off = malloc(sizeof(float) * (size_t)n), *rad = malloc(sizeof(float) * (size_t)n);
     float *nrm = malloc(sizeof(float) * 2 * (size_t)n);
     unsigned char *ok = malloc((size_t)n);
@@ -208,8 +207,9 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
     }
     const int k = r / 2 > 2 ? (int)(r / 2) : 2;
     const float dstep = 0.25f, dmax = (float)(1.6 * r);
+    int good = 0;
     for (int iter = 0; iter < 2; iter++) {
-        int good = 0;
+        good = 0;
         for (int i = 0; i < n; i++) {
             int a = i - k < 0 ? 0 : i - k, b = i + k >= n ? n - 1 : i + k;
             float tx = px[b] - px[a], ty = py[b] - py[a], tl = hypotf(tx, ty);
@@ -223,10 +223,8 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
             nrm[2 * i] = nx;
             nrm[2 * i + 1] = ny;
             float edge[2] = {-1, -1};
-            for (int side = 0; side < 2; side++) {
+            for (int side = 0; side < 2 && mask_at(m8, w, h, px[i], py[i]) >= 0.5f; side++) {
                 const float sg = side ? -1.0f : 1.0f;
-                if (mask_at(m8, w, h, px[i], py[i]) < 0.5f)
-                    break;
                 float prev = 1;
                 for (float d = dstep; d <= dmax; d += dstep) {
                     float v = mask_at(m8, w, h, px[i] + sg * d * nx, py[i] + sg * d * ny);
@@ -254,11 +252,12 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
             py[i] += off[i] * nrm[2 * i + 1];
         }
     }
-    /* the radius from the edges where both were found */
-    int good = 0;
-    for (int i = 0; i < n; i++)
-        good += ok[i];
-    if (clean && good >= n / 2) {
+    /* where both edges were found: the radius from them, the rest unclean */
+    if (good >= n / 2) {
+        for (int i = 0; i < n; i++)
+            if (ok[i])
+                pr[i] = rad[i];
+        smooth1d(pr, n, 2 * r);
         const int grow = (int)(r / 2);
         int kept = n;
         for (int i = 0; i < n; i++)
@@ -269,12 +268,6 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
                 }
         if (kept < 2 * n / 3) /* a short run loses too much: its few bad rows stay */
             memset(clean, 1, (size_t)n);
-    }
-    if (good >= n / 2) {
-        for (int i = 0; i < n; i++)
-            if (ok[i])
-                pr[i] = rad[i];
-        smooth1d(pr, n, 2 * r);
     }
     free(off);
     free(rad);

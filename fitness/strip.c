@@ -21,14 +21,10 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     if (normal && (!normal->px || normal->width != basecolor->width ||
                    normal->height != basecolor->height || normal->channels < 3))
         return sq_error_set(err, SQ_ERR_INVALID, "strip", "the normal map does not match the base colour");
-    if (roughness && (!normal || !roughness->px || roughness->width != basecolor->width ||
-                      roughness->height != basecolor->height))
-        return sq_error_set(err, SQ_ERR_INVALID, "strip", "the roughness map does not match the base colour");
-    enum { SHADE_N = 256 };
-    const float SHADE_MAX = 2.5f;
-    float shade_lut[SHADE_N + 1];
-    for (int i = 0; i <= SHADE_N; i++)
-        shade_lut[i] = powf((float)i / SHADE_N * SHADE_MAX, 1.0f / 2.2f);
+    if (!normal != !roughness || (roughness && (!roughness->px || roughness->width != basecolor->width ||
+                                                roughness->height != basecolor->height)))
+        return sq_error_set(err, SQ_ERR_INVALID, "strip",
+                            "the roughness map does not match the base colour, or comes without the normal map");
     if (sq_image_alloc(strip, SQ_FIT_STRIP_W, length, 3, SQ_SPACE_SRGB) != 0)
         return sq_error_set(err, SQ_ERR_NOMEM, "strip", "out of memory for a strip");
     const int w = basecolor->width, h = basecolor->height, ch = basecolor->channels;
@@ -39,8 +35,8 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
      * looks about the same from a 256 or a 1024 texture, and fine scales do not alias. At
      * most SUB_MAX samples a direction: a 1024 texture at the smallest view scales (a
      * footprint of 20 texels along) is still undersampled, which fits never ask for. */
-    const int nx = (int)fmin(SUB_MAX, ceil(du * w - 1e-6)), ny = (int)fmin(SUB_MAX, ceil(dv * h - 1e-6));
-    const int sx_n = nx < 1 ? 1 : nx, sy_n = ny < 1 ? 1 : ny;
+    const int sx_n = (int)fmax(1, fmin(SUB_MAX, ceil(du * w - 1e-6)));
+    const int sy_n = (int)fmax(1, fmin(SUB_MAX, ceil(dv * h - 1e-6)));
     const float inv_n = 1.0f / (float)(sx_n * sy_n);
     /* columns: fixed for every row */
     int xs[SQ_FIT_STRIP_W * SUB_MAX][2];
@@ -66,7 +62,6 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         L[k] /= ll;
     }
     sq__lab_init();
-    const int lit = normal && roughness;
     for (int j = 0; j < length; j++) {
         float acc[SQ_FIT_STRIP_W][3];
         memset(acc, 0, sizeof acc);
@@ -86,7 +81,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float top = a[k] + (b[k] - a[k]) * tx, bot = c[k] + (d[k] - c[k]) * tx;
                     o[k] = top + (bot - top) * ty;
                 }
-                if (lit) { /* the glossy cylinder of squama photo, summed in linear light */
+                if (normal) { /* the glossy cylinder of squama photo, summed in linear light */
                     float n[3], t[3], rr = 0;
                     const int nc = normal->channels, rc = roughness->channels;
                     const size_t q[4] = {(size_t)y0 * w + xs[ii][0], (size_t)y0 * w + xs[ii][1],
@@ -112,23 +107,6 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += sq__srgb_to_linear_lut(o[k]) * shade + spec;
-                } else if (normal) { /* a key light from above and aside; flat skin keeps its colour */
-                    const int nc = normal->channels;
-                    const float *n0 = normal->px + ((size_t)y0 * w + xs[ii][0]) * nc, *n1 = normal->px + ((size_t)y0 * w + xs[ii][1]) * nc;
-                    const float *n2 = normal->px + ((size_t)y1 * w + xs[ii][0]) * nc, *n3 = normal->px + ((size_t)y1 * w + xs[ii][1]) * nc;
-                    float n[3];
-                    for (int k = 0; k < 3; k++) {
-                        float top = n0[k] + (n1[k] - n0[k]) * tx, bot = n2[k] + (n3[k] - n2[k]) * tx;
-                        n[k] = 2.0f * (top + (bot - top) * ty) - 1.0f;
-                    }
-                    float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-6f;
-                    float diff = (n[0] * KEY[0] + n[1] * KEY[1] + n[2] * KEY[2]) / nl;
-                    float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) / (0.30f + 0.85f * KEY[2]);
-                    /* a linear factor applied to sRGB values: about its 1/2.2 power */
-                    int si = (int)(shade * (SHADE_N / SHADE_MAX) + 0.5f);
-                    float f = shade_lut[si < 0 ? 0 : (si > SHADE_N ? SHADE_N : si)];
-                    for (int k = 0; k < 3; k++)
-                        acc[i][k] += fminf(1.0f, o[k] * f);
                 } else { /* base colour only: averaged in linear light too */
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += sq__srgb_to_linear_lut(o[k]);
@@ -138,7 +116,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             float *o = sq_image_at(strip, i, j);
             for (int k = 0; k < 3; k++)
-                o[k] = lit || !normal ? sq__linear_to_srgb_lut(acc[i][k] * inv_n) : acc[i][k] * inv_n;
+                o[k] = sq__linear_to_srgb_lut(acc[i][k] * inv_n);
         }
     }
     sq__fit_normalise_light(strip, NULL); /* as the photo's strip */

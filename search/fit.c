@@ -621,10 +621,11 @@ static int niche_step(Fit *f, Niche *z)
 
 /* ---- stage 3: re-scoring and the polish ---- */
 
-/* The mean objectives of each candidate over `reseeds` seeds at the fine size. */
-static void rescore(Fit *f, SqFitCandidate *c, int n)
+/* Each candidate's objectives replaced by their mean over `seeds` pattern seeds (k *
+ * seed_step, the same for everyone) at size x size, and its score with them. */
+static void rescore_over(Fit *f, SqFitCandidate *c, int n, int seeds, int size, int seed_step)
 {
-    int R = f->o.reseeds > 0 ? f->o.reseeds : 1;
+    const int R = seeds > 0 ? seeds : 1;
     SqFitCandidate *t = malloc(sizeof *t * (size_t)n * (size_t)R);
     if (!t) { /* out of memory: keep the noisy values */
         return;
@@ -632,9 +633,9 @@ static void rescore(Fit *f, SqFitCandidate *c, int n)
     for (int i = 0; i < n; i++)
         for (int s = 0; s < R; s++) {
             t[i * R + s] = c[i];
-            t[i * R + s].params.Seed = 7919 * (s + 1); /* the same seeds for everyone */
+            t[i * R + s].params.Seed = seed_step * (s + 1);
         }
-    evaluate_all(f, t, n * R, f->o.fine_size, 0);
+    evaluate_all(f, t, n * R, size, 0);
     for (int i = 0; i < n; i++) {
         for (int k = 0; k < SQ_OBJ_COUNT; k++) {
             double m = 0;
@@ -646,6 +647,12 @@ static void rescore(Fit *f, SqFitCandidate *c, int n)
         score_of(f, &c[i]);
     }
     free(t);
+}
+
+/* The finalists: over `reseeds` seeds at the fine size. */
+static void rescore(Fit *f, SqFitCandidate *c, int n)
+{
+    rescore_over(f, c, n, f->o.reseeds, f->o.fine_size, 7919);
 }
 
 /* How simple an explanation a category is: a plain skin, then stripes or bands, then
@@ -671,30 +678,18 @@ enum { JUDGE_SEEDS = 3 };
 
 static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
 {
-    SqFitCandidate t[CATEGORIES * JUDGE_SEEDS];
+    SqFitCandidate c[CATEGORIES];
     int idx[CATEGORIES], m = 0;
-    double judged[CATEGORIES];
     for (int i = 0; i < nn; i++)
         if (alive[i]) {
-            for (int s = 0; s < JUDGE_SEEDS; s++) {
-                t[m * JUDGE_SEEDS + s] = niches[i].best;
-                t[m * JUDGE_SEEDS + s].params.Seed = 104729 * (s + 1);
-            }
+            c[m] = niches[i].best;
             idx[m++] = i;
         }
-    evaluate_all(f, t, m * JUDGE_SEEDS, f->o.coarse_size, 0);
-    double worst_score = -INFINITY;
+    rescore_over(f, c, m, JUDGE_SEEDS, f->o.coarse_size, 104729);
+    double judged[CATEGORIES], worst_score = -INFINITY;
     for (int j = 0; j < m; j++) {
-        SqFitCandidate c = niches[idx[j]].best;
-        for (int k = 0; k < SQ_OBJ_COUNT; k++) {
-            double sum = 0;
-            for (int s = 0; s < JUDGE_SEEDS; s++)
-                sum += t[j * JUDGE_SEEDS + s].obj[k];
-            c.obj[k] = sum / JUDGE_SEEDS;
-        }
-        score_of(f, &c);
-        judged[j] = c.score;
-        worst_score = fmax(worst_score, c.score);
+        judged[j] = c[j].score;
+        worst_score = fmax(worst_score, c[j].score);
     }
     int worst = -1;
     for (int j = 0; j < m; j++) {

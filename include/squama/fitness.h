@@ -73,11 +73,10 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
 /* A candidate's strip from its maps: SQ_FIT_STRIP_W columns across the band centred on
  * u = band_centre, `length` rows along v. view_scale is the number of body
  * circumferences one texture tile spans along the body (the UV layout's repeat): rows
- * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With a normal map the base
- * colour is shaded by a key light as a photo would show the scales (a flat surface keeps
- * its colour); with the roughness map too, the body is lit as a glossy cylinder the way
- * `squama photo` lights it, specular highlight included (its diffuse fall-off is divided
- * out again with the photo's light normalisation). normal and roughness may be NULL. */
+ * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With the normal and roughness
+ * maps the body is lit as a glossy cylinder the way `squama photo` lights it, specular
+ * highlight included (its diffuse fall-off is divided out again with the photo's light
+ * normalisation); without them (both NULL) the strip is the base colour as it is. */
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err);
