@@ -49,11 +49,27 @@ static void hist_smooth(float *hist)
     }
 }
 
-static int band_of(double f)
+/* Where frequency f (cycles per strip width) falls among the bands: its power is shared
+ * between the two bands whose centres (in log frequency) enclose it, *lo getting 1 - *t and
+ * *lo + 1 getting *t, so a pattern whose period moves a little moves its power a little
+ * instead of jumping from one band to the next. Returns 0 outside F_LO..F_HI. */
+static int band_of(double f, int *lo, float *t)
 {
     if (f < F_LO || f >= F_HI)
-        return -1;
-    return (int)(log(f / F_LO) / log(F_HI / F_LO) * SQ_FIT_BANDS);
+        return 0;
+    const double p = log(f / F_LO) / log(F_HI / F_LO) * SQ_FIT_BANDS - 0.5;
+    int b = (int)floor(p);
+    double frac = p - b;
+    if (b < 0) { /* below the first centre, or above the last: all in the end band */
+        b = 0;
+        frac = 0;
+    } else if (b >= SQ_FIT_BANDS - 1) {
+        b = SQ_FIT_BANDS - 1;
+        frac = 0;
+    }
+    *lo = b;
+    *t = (float)frac;
+    return 1;
 }
 
 /* Power spectrum of each of `count` lines of n samples (stride between samples `step`,
@@ -65,13 +81,15 @@ static double spectrum(const float *data, int n, int step, int count, int next, 
         return 0;
     double *x = malloc(sizeof(double) * (size_t)n), *hann = malloc(sizeof(double) * (size_t)n);
     int *band = malloc(sizeof(int) * (size_t)n);
+    float *share = malloc(sizeof(float) * (size_t)n);
     gsl_fft_real_wavetable *wt = gsl_fft_real_wavetable_alloc((size_t)n);
     gsl_fft_real_workspace *ws = gsl_fft_real_workspace_alloc((size_t)n);
     double total = 0;
-    if (x && hann && band && wt && ws) {
+    if (x && hann && band && share && wt && ws) {
         for (int i = 0; i < n; i++) {
             hann[i] = 0.5 - 0.5 * cos(2 * M_PI * (i + 0.5) / n);
-            band[i] = band_of((double)i / n * W);
+            if (!band_of((double)i / n * W, &band[i], &share[i]))
+                band[i] = -1;
         }
         for (int line = 0; line < count; line++) {
             const float *p = data + (size_t)line * next;
@@ -86,14 +104,18 @@ static double spectrum(const float *data, int n, int step, int count, int next, 
             for (int k = 1; k <= (n - 1) / 2; k++) {
                 double pw = x[2 * k - 1] * x[2 * k - 1] + x[2 * k] * x[2 * k];
                 total += pw;
-                if (band[k] >= 0)
-                    bands[band[k]] += (float)pw;
+                if (band[k] >= 0) {
+                    bands[band[k]] += (float)pw * (1 - share[k]);
+                    if (share[k] > 0)
+                        bands[band[k] + 1] += (float)pw * share[k];
+                }
             }
         }
     }
     free(x);
     free(hann);
     free(band);
+    free(share);
     gsl_fft_real_wavetable_free(wt);
     gsl_fft_real_workspace_free(ws);
     /* Parseval with the Hann window's mean square (3/8) */

@@ -423,6 +423,10 @@ static SqStatus fail(SqPrepared *out, SqStatus st)
  * column medians (the round body's shading); along, the luminance averaged over a strip
  * width. Patterns finer than the strip's width keep their contrast; broader ones (a pale
  * dorsal stripe, wide bands) are flattened too, so candidate strips go through the same. */
+/* The largest left-right tilt divided out locally: a log-luminance slope of 0.7 over the
+ * half width, a flank twice as bright as the other. */
+static const float MAX_TILT = 0.7f;
+
 void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
 {
     enum { W = SQ_FIT_STRIP_W };
@@ -492,6 +496,44 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
         colf[x] = fmax(colf[x], 0.5 * top);
         mean += colf[x] / W;
     }
+    /* A body that turns turns its flank to the light: the left-right tilt of the shading
+     * changes along the body, which one fit over the whole strip cannot follow. The
+     * tilt of each row (the slope of log luminance over t, after the fit above) is
+     * smoothed over a strip width and divided out where it departs from its mean; a
+     * pattern's own asymmetry, constant along the body, stays. */
+    float *tilt = malloc(sizeof(float) * (size_t)n);
+    if (tilt) {
+        double tsum = 0;
+        int tcount = 0;
+        for (int y = 0; y < n; y++) {
+            double sl = 0, st = 0, stt = 0, sll = 0;
+            int m = 0;
+            for (int x = 0; x < W; x++)
+                if (!valid || valid->px[(size_t)y * W + x] > 0.5f) {
+                    double t = (x + 0.5) / W * 2 - 1, lv = log(lum[(size_t)y * W + x] / colf[x]);
+                    sl += lv;
+                    st += t;
+                    stt += t * t;
+                    sll += lv * t;
+                    m++;
+                }
+            double den = stt - st * st / (m ? m : 1);
+            tilt[y] = m >= W / 2 && den > 1e-6 ? (float)((sll - sl * st / m) / den) : NAN;
+            if (isfinite(tilt[y])) {
+                tsum += tilt[y];
+                tcount++;
+            }
+        }
+        const float tmean = tcount ? (float)(tsum / tcount) : 0.0f;
+        for (int y = 0; y < n; y++)
+            tilt[y] = isfinite(tilt[y]) ? tilt[y] - tmean : 0.0f;
+        smooth1d(tilt, n, W);
+        for (int y = 0; y < n; y++) {
+            const float g = fminf(fmaxf(tilt[y], -MAX_TILT), MAX_TILT);
+            for (int x = 0; x < W; x++)
+                lum[(size_t)y * W + x] /= expf(g * (float)((x + 0.5) / W * 2 - 1));
+        }
+    }
     /* along: the mean luminance per row (after the across correction), smoothed */
     double total = 0;
     int tn = 0;
@@ -517,6 +559,8 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     for (int y = 0; y < n; y++)
         for (int x = 0; x < W; x++) {
             float k = (float)(gmean / (row[y] * (colf[x] / mean)));
+            if (tilt)
+                k /= expf(fminf(fmaxf(tilt[y], -MAX_TILT), MAX_TILT) * (float)((x + 0.5) / W * 2 - 1));
             float *p = strip->px + 3 * ((size_t)y * W + x);
             for (int c = 0; c < 3; c++)
                 p[c] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(p[c]) * k);
@@ -524,6 +568,7 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     free(lum);
     free(col);
     free(row);
+    free(tilt);
 }
 
 SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPrepOptions *opt,
