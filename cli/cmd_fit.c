@@ -347,6 +347,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                                                : prep->mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
+    cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
     cJSON *se = cJSON_AddObjectToObject(root, "search");
     cJSON_AddStringToObject(se, "method", sq_fit_method_name(fo->method));
     cJSON_AddNumberToObject(se, "seed", (double)fo->seed);

@@ -21,9 +21,10 @@ static const char help[] =
     "\n"
     "Finds the snake in PHOTO (MASK if given: white on the snake, the photo's size; else\n"
     "the photo's alpha; else an automatic GrabCut), follows the body's centre line and\n"
-    "straightens the longest clean stretch of it into a strip, with the light evened out.\n"
+    "straightens its clean stretches (between crossings) into a strip, with the light evened\n"
+    "out.\n"
     "Writes DIR/mask.png (the photo's size: correct it and pass it back with --mask),\n"
-    "DIR/strip.png, DIR/prepared.json (body width, length, mask source) and, with --debug,\n"
+    "DIR/strip.png, DIR/prepared.json (body width, length, stretches, mask source) and, with --debug,\n"
     "every step as an image in DIR/debug/.\n"
     "\n"
     "options:\n"
@@ -164,6 +165,7 @@ int cmd_prepare(int argc, char **argv)
         cJSON_AddStringToObject(o, "mask_source", src[prep.mask_source]);
         cJSON_AddNumberToObject(o, "body_width", prep.body_width);
         cJSON_AddNumberToObject(o, "length", prep.length);
+        cJSON_AddNumberToObject(o, "stretches", prep.nruns);
         cJSON_AddNumberToObject(o, "strip_rows", prep.strip.height);
         char *text = sq__json_print(o);
         cJSON_Delete(o);
@@ -172,9 +174,10 @@ int cmd_prepare(int argc, char **argv)
             rc = cli_fail(&err);
         free(text);
         if (rc == CLI_OK)
-            printf("%s: %s mask, body %.0f px wide, %.0f px of it straightened into a %dx%d strip\n",
-                   argv[optind], src[prep.mask_source], prep.body_width, prep.length, prep.strip.width,
-                   prep.strip.height);
+            printf("%s: %s mask, body %.0f px wide, %.0f px of it in %d stretch%s straightened into a "
+                   "%dx%d strip\n",
+                   argv[optind], src[prep.mask_source], prep.body_width, prep.length, prep.nruns,
+                   prep.nruns == 1 ? "" : "es", prep.strip.width, prep.strip.height);
         sq_fit_prepared_free(&prep);
     }
     sq_image_free(&photo);

@@ -150,8 +150,8 @@ int cmd_score(int argc, char **argv)
             fputs(text, stdout);
         free(text);
     } else if (rc == CLI_OK) {
-        printf("%s: body %.0f px wide, %.0f px straightened (%s mask)\n\n", photo_path, prep.body_width,
-               prep.length, prep.mask_source == SQ_MASK_GIVEN ? "given" : prep.mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
+        printf("%s: body %.0f px wide, %.0f px straightened in %d stretch%s (%s mask)\n\n", photo_path,
+               prep.body_width, prep.length, prep.nruns, prep.nruns == 1 ? "" : "es", prep.mask_source == SQ_MASK_GIVEN ? "given" : prep.mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
         printf("%4s %6s", "rank", "scale");
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             printf(" %9s", sq_fit_objective_name(k));

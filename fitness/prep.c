@@ -2,7 +2,8 @@
  *
  * The centre line is the longest path through the mask's skeleton; where the body is
  * much wider or thinner than its median (crossings, touching parts, the tail) the path is
- * not trusted, and the longest run of trusted path is straightened. Across the body the
+ * not trusted, and every run of trusted path a body width long or more is straightened,
+ * the runs one after another in the strip (a coiled snake shows several). Across the body the
  * photo is sampled at d = r sin(theta) for theta evenly spaced in +-60 degrees, so the
  * strip's columns are equal lengths of skin; along it, rows are the same length apart. */
 #include <math.h>
@@ -190,9 +191,10 @@ static float mask_at(const uint8_t *m8, int w, int h, float x, float y)
  * edges. A skeleton wanders off the middle by a few pixels at bends and ragged edges,
  * which turns straight stripes into wavy ones in the strip. Where the edges are not a
  * body's width apart (the body touches itself or another part lies across it) the point
- * keeps its place and clean[i] (n flags) is 0, within half a radius of it too. */
-static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, float *py, float *pr, int n,
-                                 double r, unsigned char *clean)
+ * keeps its place and clean[i] (n flags) is 0, within half a radius of it too. Returns
+ * the share of points whose edges were found a body's width apart. */
+static double centre_between_edges(const uint8_t *m8, int w, int h, float *px, float *py, float *pr, int n,
+                                   double r, unsigned char *clean)
 {
     memset(clean, 1, (size_t)n);
     float *off = malloc(sizeof(float) * (size_t)n), *rad = malloc(sizeof(float) * (size_t)n);
@@ -203,7 +205,7 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
         free(rad);
         free(nrm);
         free(ok);
-        return;
+        return 0;
     }
     const int k = r / 2 > 2 ? (int)(r / 2) : 2;
     const float dstep = 0.25f, dmax = (float)(1.6 * r);
@@ -273,12 +275,15 @@ static void centre_between_edges(const uint8_t *m8, int w, int h, float *px, flo
     free(rad);
     free(nrm);
     free(ok);
+    return (double)good / n;
 }
 
-/* The photo with the skeleton (red), its longest path (yellow) and the straightened run
+enum { MAX_RUNS = 16 };
+
+/* The photo with the skeleton (red), its longest path (yellow) and the straightened runs
  * (green). */
 static void debug_centre_line(const SqPrepOptions *o, const SqImage *photo, const uint8_t *skel,
-                              const int *path, int n, int run0, int runn)
+                              const int *path, int n, int nruns, const int (*runs)[2])
 {
     if (!o->debug_dir)
         return;
@@ -293,7 +298,9 @@ static void debug_centre_line(const SqPrepOptions *o, const SqImage *photo, cons
             ov.px[3 * i + 1] = ov.px[3 * i + 2] = 0;
         }
     for (int i = 0; i < n; i++) {
-        int inrun = i >= run0 && i < run0 + runn, x = path[i] % w, y = path[i] / w;
+        int inrun = 0, x = path[i] % w, y = path[i] / w;
+        for (int k = 0; k < nruns; k++)
+            inrun |= i >= runs[k][0] && i < runs[k][0] + runs[k][1];
         for (int k = -inrun; k <= inrun; k++)
             for (int l = -inrun; l <= inrun; l++)
                 if (x + l >= 0 && y + k >= 0 && x + l < w && y + k < h) {
@@ -308,7 +315,8 @@ static void debug_centre_line(const SqPrepOptions *o, const SqImage *photo, cons
 }
 
 /* What a mask says about the body: cleaned, its distance map and skeleton, the longest
- * skeleton path, the median radius and the longest run of trusted path. */
+ * skeleton path, the median radius, the longest run of trusted path and every run of
+ * trusted path a body width long (start, length; in path order, the longest among them). */
 typedef struct Body {
     uint8_t *m8;
     float *dist;
@@ -316,6 +324,7 @@ typedef struct Body {
     int *path, n;
     double r;
     int run0, runn;
+    int nruns, runs[MAX_RUNS][2];
     SqStatus st;
     char why[256];
 } Body;
@@ -392,19 +401,27 @@ static void analyse(Body *b, int w, int h)
                 bad[k] = 1;
         }
     }
-    for (int i = 0; i < n;) {
-        if (bad[i]) {
-            i++;
+    /* the runs to straighten: every run a body width long (the longest always) */
+    for (int i = 0, j; i < n; i = j) {
+        for (j = i; j < n && !bad[j]; j++)
+            ;
+        if (j == i) {
+            j++;
             continue;
         }
-        int j = i;
-        while (j < n && !bad[j])
-            j++;
-        if (j - i > b->runn) {
+        const int longest = j - i > b->runn;
+        if (longest) {
             b->runn = j - i;
             b->run0 = i;
         }
-        i = j;
+        if ((longest || j - i >= 2 * r) && b->nruns < MAX_RUNS) {
+            b->runs[b->nruns][0] = i;
+            b->runs[b->nruns][1] = j - i;
+            b->nruns++;
+        } else if (longest) { /* full: the longest takes the last place */
+            b->runs[MAX_RUNS - 1][0] = i;
+            b->runs[MAX_RUNS - 1][1] = j - i;
+        }
     }
     free(bad);
     free(width);
@@ -571,6 +588,100 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     free(tilt);
 }
 
+/* One run of the centre line made ready to straighten: smoothed, moved between the
+ * edges, with its local radius, clean flags and arc length. */
+typedef struct Curve {
+    int n, rows;
+    double good; /* share of the points with both edges a body's width apart */
+    float *px, *py, *pr;
+    unsigned char *clean;
+    double *arc;
+} Curve;
+
+enum { RUN_GAP = 4 }; /* strip rows between two runs */
+
+/* A run besides the longest is straightened when its edges are found a body's width apart
+ * at this share of its points. */
+static const double MIN_RUN_GOOD = 0.85;
+
+static void curve_free(Curve *c)
+{
+    free(c->px);
+    free(c->py);
+    free(c->pr);
+    free(c->clean);
+    free(c->arc);
+    memset(c, 0, sizeof *c);
+}
+
+static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
+{
+    memset(c, 0, sizeof *c);
+    c->n = n;
+    c->px = malloc(sizeof(float) * (size_t)n);
+    c->py = malloc(sizeof(float) * (size_t)n);
+    c->pr = malloc(sizeof(float) * (size_t)n);
+    c->clean = malloc((size_t)n);
+    c->arc = malloc(sizeof(double) * (size_t)n);
+    if (!c->px || !c->py || !c->pr || !c->clean || !c->arc)
+        return -1;
+    const double r = b->r;
+    for (int i = 0; i < n; i++) {
+        int k = b->path[i0 + i];
+        c->px[i] = (float)(k % w) + 0.5f;
+        c->py[i] = (float)(k / w) + 0.5f;
+        c->pr[i] = b->dist[k];
+    }
+    smooth1d(c->px, n, 0.5 * r);
+    smooth1d(c->py, n, 0.5 * r);
+    smooth1d(c->pr, n, 2 * r);
+    c->good = centre_between_edges(b->m8, w, h, c->px, c->py, c->pr, n, r, c->clean);
+    /* where the frame cuts the body one edge is the frame's: those points are not good */
+    int framed = 0;
+    for (int i = 0; i < n; i++)
+        framed += c->px[i] < r || c->py[i] < r || c->px[i] > w - r || c->py[i] > h - r;
+    c->good = fmax(c->good - (double)framed / n, 0.0);
+    c->arc[0] = 0;
+    for (int i = 1; i < n; i++)
+        c->arc[i] = c->arc[i - 1] + hypot(c->px[i] - c->px[i - 1], c->py[i] - c->py[i - 1]);
+    return 0;
+}
+
+/* Samples the photo perpendicular to the curve into c->rows rows of the strip from row0:
+ * every `step` pixels along it, across at d = r sin(theta). */
+static void curve_sample(const Curve *c, const SqImage *photo, const uint8_t *m8, double step,
+                         SqImage *strip, SqImage *valid, int row0)
+{
+    const int w = photo->width, h = photo->height, n = c->n;
+    int seg = 0;
+    for (int j = 0; j < c->rows; j++) {
+        double s = (j + 0.5) * step;
+        while (seg < n - 2 && c->arc[seg + 1] < s)
+            seg++;
+        double t = c->arc[seg + 1] > c->arc[seg] ? (s - c->arc[seg]) / (c->arc[seg + 1] - c->arc[seg]) : 0;
+        double cx = c->px[seg] + (c->px[seg + 1] - c->px[seg]) * t;
+        double cy = c->py[seg] + (c->py[seg + 1] - c->py[seg]) * t;
+        double rr = c->pr[seg] + (c->pr[seg + 1] - c->pr[seg]) * t;
+        int a = seg > 2 ? seg - 3 : 0, b = seg + 3 < n ? seg + 3 : n - 1;
+        double tx = c->px[b] - c->px[a], ty = c->py[b] - c->py[a], tl = hypot(tx, ty);
+        tx /= tl > 0 ? tl : 1;
+        ty /= tl > 0 ? tl : 1;
+        double nx = -ty, ny = tx;
+        const int row_clean = c->clean[seg] && c->clean[seg + 1 < n ? seg + 1 : seg];
+        for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
+            double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
+            double d = rr * sin(th);
+            float sx = (float)(cx + d * nx - 0.5), sy = (float)(cy + d * ny - 0.5);
+            int inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
+            float *o3 = sq_image_at(strip, i, row0 + j);
+            for (int ch = 0; ch < 3; ch++)
+                o3[ch] = inside ? sq__sample(photo->px, w, h, 3, ch, sx, sy) : 0.0f;
+            *sq_image_at(valid, i, row0 + j) =
+                inside && row_clean && m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
+        }
+    }
+}
+
 SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPrepOptions *opt,
                         SqPrepared *out, SqError *err)
 {
@@ -595,8 +706,8 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     float *rgb0 = malloc(sizeof(float) * 3 * (size_t)W0 * H0);
     uint8_t *m8 = malloc((size_t)w * h);
     Body body = {0};
-    float *px = NULL, *py = NULL, *pr = NULL;
-    unsigned char *clean = NULL;
+    Curve curves[MAX_RUNS];
+    int ncurves = 0;
     SqStatus st = SQ_OK;
 #define FAIL(...)                                    \
     do {                                             \
@@ -741,107 +852,89 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         debug_save(&o, "3_mask_clean.png", &out->mask);
     }
     if (body.path)
-        debug_centre_line(&o, &out->photo, body.skel, body.path, body.n, body.run0, body.runn);
+        debug_centre_line(&o, &out->photo, body.skel, body.path, body.n, body.nruns,
+                          (const int(*)[2])body.runs);
     if (body.st != SQ_OK)
         FAIL(body.st, "mask", "%s%s", body.why,
              out->mask_source == SQ_MASK_AUTOMATIC ? " (automatic mask: draw one and pass it with --mask)" : "");
     const double r = body.r;
-    const int bestn = body.runn, best0 = body.run0;
-    const float *dist = body.dist;
-    const int *path = body.path;
-
-    /* 6. the run as a smooth curve with its local radius */
-    px = malloc(sizeof(float) * (size_t)bestn);
-    py = malloc(sizeof(float) * (size_t)bestn);
-    pr = malloc(sizeof(float) * (size_t)bestn);
-    if (!px || !py || !pr)
-        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
-    for (int i = 0; i < bestn; i++) {
-        int k = path[best0 + i];
-        px[i] = (float)(k % w) + 0.5f;
-        py[i] = (float)(k / w) + 0.5f;
-        pr[i] = dist[k];
-    }
-    smooth1d(px, bestn, 0.5 * r);
-    smooth1d(py, bestn, 0.5 * r);
-    smooth1d(pr, bestn, 2 * r);
-    clean = malloc((size_t)bestn);
-    if (!clean)
-        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
-    centre_between_edges(body.m8, w, h, px, py, pr, bestn, r, clean);
-    /* arc length of the smoothed curve */
-    double *arc = malloc(sizeof(double) * (size_t)bestn);
-    if (!arc)
-        FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
-    arc[0] = 0;
-    for (int i = 1; i < bestn; i++)
-        arc[i] = arc[i - 1] + hypot(px[i] - px[i - 1], py[i] - py[i - 1]);
     const double step = 2 * THETA_MAX * r / SQ_FIT_STRIP_W; /* one strip pixel of skin */
-    const int rows = (int)(arc[bestn - 1] / step);
-    if (rows < SQ_FIT_STRIP_W) {
-        double len = arc[bestn - 1];
-        free(arc);
+
+    /* 6. each run as a smooth curve with its local radius */
+    for (int k = 0; k < body.nruns; k++) {
+        Curve *c = &curves[ncurves++]; /* freed at the end even if half made */
+        if (curve_make(&body, w, h, body.runs[k][0], body.runs[k][1], c) != 0)
+            FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+        c->rows = (int)(c->arc[c->n - 1] / step);
+    }
+    /* the runs whose edges are a body's width apart nearly all along (where the skeleton's
+     * longest path cuts through a crossing, they are not); if none is, the longest alone */
+    int kept = 0, longest = 0;
+    for (int k = 0; k < ncurves; k++)
+        if (curves[k].good >= MIN_RUN_GOOD) {
+            Curve t = curves[kept];
+            curves[kept] = curves[k];
+            curves[k] = t;
+            if (curves[kept].rows > curves[longest].rows)
+                longest = kept;
+            kept++;
+        }
+    if (kept == 0) {
+        for (int k = 0; k < ncurves; k++)
+            if (body.runs[k][0] == body.run0) {
+                Curve t = curves[0];
+                curves[0] = curves[k];
+                curves[k] = t;
+            }
+        kept = 1;
+    }
+    while (ncurves > kept)
+        curve_free(&curves[--ncurves]);
+    int rows = 0;
+    for (int k = 0; k < ncurves; k++)
+        rows += curves[k].rows + (k ? RUN_GAP : 0);
+    if (curves[longest].rows < SQ_FIT_STRIP_W) {
+        double len = curves[longest].arc[curves[longest].n - 1];
         FAIL(SQ_ERR_INVALID, "mask",
              "the longest clean stretch of body (not crossing or touching itself) is %.0f pixels, "
              "%.1f body widths: too short to straighten (%.1f at least)",
              len, len / (2 * r), SQ_FIT_STRIP_W * step / (2 * r));
     }
     if (sq_image_alloc(&out->strip, SQ_FIT_STRIP_W, rows, 3, SQ_SPACE_SRGB) ||
-        sq_image_alloc(&out->valid, SQ_FIT_STRIP_W, rows, 1, SQ_SPACE_DATA)) {
-        free(arc);
+        sq_image_alloc(&out->valid, SQ_FIT_STRIP_W, rows, 1, SQ_SPACE_DATA))
         FAIL(SQ_ERR_NOMEM, "strip", "out of memory for the strip");
+    /* 7. resample perpendicular to the centre lines, run after run (the gaps between them
+     * count as not body) */
+    double length = 0;
+    for (int k = 0, row0 = 0; k < ncurves; k++) {
+        curve_sample(&curves[k], &out->photo, body.m8, step, &out->strip, &out->valid, row0);
+        row0 += curves[k].rows + RUN_GAP;
+        length += curves[k].rows * step;
     }
-    /* 7. resample perpendicular to the centre line */
-    int seg = 0;
-    for (int j = 0; j < rows; j++) {
-        double s = (j + 0.5) * step;
-        while (seg < bestn - 2 && arc[seg + 1] < s)
-            seg++;
-        double t = arc[seg + 1] > arc[seg] ? (s - arc[seg]) / (arc[seg + 1] - arc[seg]) : 0;
-        double cx = px[seg] + (px[seg + 1] - px[seg]) * t, cy = py[seg] + (py[seg + 1] - py[seg]) * t;
-        double rr = pr[seg] + (pr[seg + 1] - pr[seg]) * t;
-        int a = seg > 2 ? seg - 3 : 0, b = seg + 3 < bestn ? seg + 3 : bestn - 1;
-        double tx = px[b] - px[a], ty = py[b] - py[a], tl = hypot(tx, ty);
-        tx /= tl > 0 ? tl : 1;
-        ty /= tl > 0 ? tl : 1;
-        double nx = -ty, ny = tx;
-        const int row_clean = clean[seg] && clean[seg + 1 < bestn ? seg + 1 : seg];
-        for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
-            double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
-            double d = rr * sin(th);
-            float sx = (float)(cx + d * nx - 0.5), sy = (float)(cy + d * ny - 0.5);
-            int inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
-            float *o3 = sq_image_at(&out->strip, i, j);
-            for (int c = 0; c < 3; c++)
-                o3[c] = inside ? sq__sample(out->photo.px, w, h, 3, c, sx, sy) : 0.0f;
-            *sq_image_at(&out->valid, i, j) =
-                inside && row_clean && body.m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
-        }
-    }
-    free(arc);
     debug_save(&o, "5_strip_raw.png", &out->strip);
     sq__fit_normalise_light(&out->strip, &out->valid);
     debug_save(&o, "6_strip.png", &out->strip);
     debug_save(&o, "7_strip_valid.png", &out->valid);
 
     out->body_width = 2 * r / scale;
-    out->length = rows * step / scale;
-    out->npoints = bestn;
-    out->centre = malloc(sizeof(float) * 2 * (size_t)bestn);
+    out->length = length / scale;
+    out->nruns = ncurves;
+    for (int k = 0; k < ncurves; k++)
+        out->npoints += curves[k].n;
+    out->centre = malloc(sizeof(float) * 2 * (size_t)out->npoints);
     if (!out->centre)
         FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
-    for (int i = 0; i < bestn; i++) {
-        out->centre[2 * i] = (float)(px[i] / scale);
-        out->centre[2 * i + 1] = (float)(py[i] / scale);
-    }
+    for (int k = 0, j = 0; k < ncurves; k++)
+        for (int i = 0; i < curves[k].n; i++, j++) {
+            out->centre[2 * j] = (float)(curves[k].px[i] / scale);
+            out->centre[2 * j + 1] = (float)(curves[k].py[i] / scale);
+        }
 #undef FAIL
 done:
     free(rgb0);
     free(m8);
     body_free(&body);
-    free(px);
-    free(py);
-    free(pr);
-    free(clean);
+    for (int k = 0; k < ncurves; k++)
+        curve_free(&curves[k]);
     return st == SQ_OK ? SQ_OK : fail(out, st);
 }

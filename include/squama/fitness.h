@@ -115,18 +115,20 @@ typedef struct SqPrepared {
     SqMaskSource mask_source;
     double scale;           /* working size / original size */
     double body_width;      /* median body width, pixels of the original photo */
-    double length;          /* length of the straightened run, pixels of the original */
+    double length;          /* length straightened, pixels of the original */
+    int nruns;              /* stretches of body straightened (between crossings) */
     int npoints;
-    float *centre;          /* the run's centre line, x, y in pixels of the original */
+    float *centre;          /* the runs' centre lines, x, y in pixels of the original */
 } SqPrepared;
 
 SqPrepOptions sq_fit_prep_options_default(void);
 
 /* Prepares a photo (sRGB, 3 or 4 channels) with an optional mask (1 channel, the same
  * size; NULL: the photo's alpha if it has one, else made automatically by GrabCut):
- * cleans the mask, follows the centre line of its longest clean run, resamples the body
- * across at asin-spaced angles within +-60 degrees into a strip, and divides out
- * large-scale shading. */
+ * cleans the mask, follows the centre line of its clean runs (the longest, and others a
+ * body width long whose edges are clean all along, one after another with a few rows of
+ * not-body between them), resamples the body across at asin-spaced angles within +-60
+ * degrees into a strip, and divides out large-scale shading. */
 SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepOptions *o,
                         SqPrepared *out, SqError *err);
 
