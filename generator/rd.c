@@ -26,18 +26,34 @@
  *   g1' = c s2 g1^2 / r - alpha g1 + Dg lap g1 + rho0,  g2' likewise with s1,
  *   r'  = c s2 g1^2 + c s1 g2^2 - beta r,
  *   s1' = gamma (g1 - s1) + Ds lap s1 + rho1,           s2' likewise with g2.
- * Turk gives only D_x (here Dg: 0.1 broad, 0.008 thin stripes) and D_y = 0.06 (here Ds,
- * the diffusion of s1 and s2); the rates are squama's own tuning, chosen so the system
- * forms stripes from a near-homogeneous start within a few thousand steps at dt = 1
- * (alpha is the g decay, beta the r decay, gamma how fast s follows g; c = 1 with a 2%
- * random variation seeds the stripes, as beta's variation does for Turing's spots). */
-#define STRIPE_DS 0.06f
+ * Turk gives only D_x (here Dg, RD_StripeDiffusion: 0.1 broad, 0.008 thin stripes) and
+ * D_y = 0.06. The other constants are squama's own tuning (2025, by rendering a scan of
+ * them): with Turk's D_y for Ds the domains coarsened into blobs, and with rho1 = 0 a wide
+ * stripe never splits (the g2 growth inside a g1 domain is beta s1 / g1^2 - alpha, which
+ * rho1 > 0 makes positive); Ds = 0.2, rho1 = 0.001 give labyrinths of random stripes whose
+ * width follows Dg. c = 1 +- 2% seeds them, as beta's variation does for Turing's spots.
+ * The system keeps drifting slowly (it never settles completely), so its cap matters. */
+#ifndef STRIPE_DS
+#define STRIPE_DS 0.2f
+#endif
+#ifndef STRIPE_ALPHA
 #define STRIPE_ALPHA 0.04f
+#endif
+#ifndef STRIPE_BETA
 #define STRIPE_BETA 0.04f
+#endif
+#ifndef STRIPE_GAMMA
 #define STRIPE_GAMMA 0.02f
+#endif
+#ifndef STRIPE_RHO0
 #define STRIPE_RHO0 0.001f
-#define STRIPE_RHO1 0.0f
+#endif
+#ifndef STRIPE_RHO1
+#define STRIPE_RHO1 0.001f
+#endif
+#ifndef STRIPE_C_VAR
 #define STRIPE_C_VAR 0.02
+#endif
 
 enum { G1, G2, R, S1, S2 };
 enum { A, B };
@@ -51,6 +67,17 @@ static inline float pos(float x)
 static inline float floor_at(float x, float lo)
 {
     return x > lo ? x : lo;
+}
+
+/* g1 and g2 kept in [0, STRIPE_GMAX] and r above STRIPE_RMIN: the explicit steps of the
+ * stripe system, whose production divides by r, then cannot run away to infinity */
+#define STRIPE_GMAX 20.0f
+#define STRIPE_RMIN 1e-3f
+
+static inline float g_clamp(float x)
+{
+    x = x > 0.0f ? x : 0.0f;
+    return x < STRIPE_GMAX ? x : STRIPE_GMAX;
 }
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
@@ -112,51 +139,48 @@ static void turing_row_frozen(int nu, float *restrict an, float *restrict bn,
                 live[nu - 1]);
 }
 
-/* Meinhardt's stripes: pointers to the five chemicals of this row (c), the rows above
- * (u) and below (d) (r does not diffuse), and the outputs (o). */
-typedef struct StripeRow {
-    float *restrict o[5];
-    const float *restrict c[5];
-    const float *restrict u[5];
-    const float *restrict d[5];
-} StripeRow;
-
-static inline void stripe_cell(int x, int xl, int xr, const StripeRow *restrict s,
-                               const float *restrict cc, const float *restrict rate,
-                               float dg, float ds, float live)
-{
-    const float *restrict g1 = s->c[G1], *restrict g2 = s->c[G2], *restrict r = s->c[R];
-    const float *restrict s1 = s->c[S1], *restrict s2 = s->c[S2];
-    const float g1v = g1[x], g2v = g2[x], rv = r[x], s1v = s1[x], s2v = s2[x];
-    const float k = rate[x] * live, c = cc[x];
-    const float p1 = c * s2v * g1v * g1v, p2 = c * s1v * g2v * g2v;
-    const float ir = 1.0f / rv;
-    const float l1 = g1[xl] + g1[xr] + s->u[G1][x] + s->d[G1][x] - 4.0f * g1v;
-    const float l2 = g2[xl] + g2[xr] + s->u[G2][x] + s->d[G2][x] - 4.0f * g2v;
-    const float m1 = s1[xl] + s1[xr] + s->u[S1][x] + s->d[S1][x] - 4.0f * s1v;
-    const float m2 = s2[xl] + s2[xr] + s->u[S2][x] + s->d[S2][x] - 4.0f * s2v;
-    s->o[G1][x] = pos(g1v + k * (p1 * ir - STRIPE_ALPHA * g1v + STRIPE_RHO0) + live * dg * l1);
-    s->o[G2][x] = pos(g2v + k * (p2 * ir - STRIPE_ALPHA * g2v + STRIPE_RHO0) + live * dg * l2);
-    s->o[R][x] = floor_at(rv + k * (p1 + p2 - STRIPE_BETA * rv), 1e-6f);
-    s->o[S1][x] = s1v + k * (STRIPE_GAMMA * (g1v - s1v) + STRIPE_RHO1) + live * ds * m1;
-    s->o[S2][x] = s2v + k * (STRIPE_GAMMA * (g2v - s2v) + STRIPE_RHO1) + live * ds * m2;
-}
+/* Meinhardt's stripes, one row. Every array is its own restrict parameter: through a
+ * struct of pointers GCC no longer knows they do not overlap and does not vectorise.
+ * o* the outputs, g1 .. s2 this row, u* and d* the rows above and below (r does not
+ * diffuse). */
+#define STRIPE_CELL(x, xl, xr, live)                                                        \
+    do {                                                                                  \
+        const float g1v = g1[x], g2v = g2[x], rv = r[x], s1v = s1[x], s2v = s2[x];        \
+        const float k = rate[x] * (live), c = cc[x], dgl = dg * (live), dsl = ds * (live); \
+        const float p1 = c * s2v * g1v * g1v, p2 = c * s1v * g2v * g2v, ir = 1.0f / rv;   \
+        const float l1 = g1[xl] + g1[xr] + ug1[x] + dg1[x] - 4.0f * g1v;                  \
+        const float l2 = g2[xl] + g2[xr] + ug2[x] + dg2[x] - 4.0f * g2v;                  \
+        const float m1 = s1[xl] + s1[xr] + us1[x] + ds1[x] - 4.0f * s1v;                  \
+        const float m2 = s2[xl] + s2[xr] + us2[x] + ds2[x] - 4.0f * s2v;                  \
+        og1[x] = g_clamp(g1v + k * (p1 * ir - STRIPE_ALPHA * g1v + STRIPE_RHO0) + dgl * l1); \
+        og2[x] = g_clamp(g2v + k * (p2 * ir - STRIPE_ALPHA * g2v + STRIPE_RHO0) + dgl * l2); \
+        or_[x] = floor_at(rv + k * (p1 + p2 - STRIPE_BETA * rv), STRIPE_RMIN);            \
+        os1[x] = s1v + k * (STRIPE_GAMMA * (g1v - s1v) + STRIPE_RHO1) + dsl * m1;         \
+        os2[x] = s2v + k * (STRIPE_GAMMA * (g2v - s2v) + STRIPE_RHO1) + dsl * m2;         \
+    } while (0)
 
 SQ_CLONES
-static void stripe_row(int nu, const StripeRow *restrict s, const float *restrict cc,
-                       const float *restrict rate, float dg, float ds,
+static void stripe_row(int nu, float *restrict og1, float *restrict og2, float *restrict or_,
+                       float *restrict os1, float *restrict os2, const float *restrict g1,
+                       const float *restrict g2, const float *restrict r,
+                       const float *restrict s1, const float *restrict s2,
+                       const float *restrict ug1, const float *restrict ug2,
+                       const float *restrict us1, const float *restrict us2,
+                       const float *restrict dg1, const float *restrict dg2,
+                       const float *restrict ds1, const float *restrict ds2,
+                       const float *restrict cc, const float *restrict rate, float dg, float ds,
                        const float *restrict live)
 {
     if (live) {
         for (int x = 1; x < nu - 1; x++)
-            stripe_cell(x, x - 1, x + 1, s, cc, rate, dg, ds, live[x]);
-        stripe_cell(0, nu - 1, 1, s, cc, rate, dg, ds, live[0]);
-        stripe_cell(nu - 1, nu - 2, 0, s, cc, rate, dg, ds, live[nu - 1]);
+            STRIPE_CELL(x, x - 1, x + 1, live[x]);
+        STRIPE_CELL(0, nu - 1, 1, live[0]);
+        STRIPE_CELL(nu - 1, nu - 2, 0, live[nu - 1]);
     } else {
         for (int x = 1; x < nu - 1; x++)
-            stripe_cell(x, x - 1, x + 1, s, cc, rate, dg, ds, 1.0f);
-        stripe_cell(0, nu - 1, 1, s, cc, rate, dg, ds, 1.0f);
-        stripe_cell(nu - 1, nu - 2, 0, s, cc, rate, dg, ds, 1.0f);
+            STRIPE_CELL(x, x - 1, x + 1, 1.0f);
+        STRIPE_CELL(0, nu - 1, 1, 1.0f);
+        STRIPE_CELL(nu - 1, nu - 2, 0, 1.0f);
     }
 }
 
@@ -203,6 +227,12 @@ static double flank_factor(int x, int nu, double flank)
     return pow(flank, 0.5 * (1.0 + cos(2.0 * M_PI * u)));
 }
 
+/* The time step of Turing's system for a largest speed smax (see sq__rd_init_spots). */
+static float turing_dt(double smax)
+{
+    return (float)fmin(0.8, 1.8 / (8.0 * TURING_DA + 40.0 * smax));
+}
+
 int sq__rd_init_spots(SqRd *rd, int nu, int nv, double s, double flank, double beta_var,
                       uint64_t seed, uint64_t stream)
 {
@@ -210,9 +240,10 @@ int sq__rd_init_spots(SqRd *rd, int nu, int nv, double s, double flank, double b
         return -1;
     /* Explicit Euler with Turk's D_a = 0.25 is unstable at dt = 1 in two dimensions (the
      * checkerboard mode of a grows by 1 + s b per step); stable needs
-     * dt < 2 / (8 D_a + s b). b stays below about 16, so dt keeps a 20% margin there. */
+     * dt < 2 / (8 D_a + s b). b grows with s (to about 25 at s = 0.2, 85 at s = 2), so
+     * dt is set for b up to 40, with a 10% margin. */
     const double smax = s * (flank > 1 ? flank : 1);
-    rd->dt = (float)fmin(0.8, 1.6 / (8.0 * TURING_DA + 16.0 * smax));
+    rd->dt = turing_dt(smax);
     rd->diff[A] = TURING_DA * rd->dt;
     rd->diff[B] = TURING_DB * rd->dt;
     for (int x = 0; x < nu; x++)
@@ -254,8 +285,13 @@ int sq__rd_init_stripes(SqRd *rd, int nu, int nv, double dx, double flank, uint6
     const float g = (0.5f * STRIPE_BETA + STRIPE_RHO0) / STRIPE_ALPHA;
     const size_t n = (size_t)nu * nv;
     for (size_t i = 0; i < n; i++) {
+        /* c's variation acts on g1 and g2 alike; the system is symmetric in them, so
+         * the start needs a difference between the two as well */
+        const float e = (float)(STRIPE_C_VAR * sq__rand11(seed, stream + 1000, i));
         rd->sub[i] = (float)(1.0 + STRIPE_C_VAR * sq__rand11(seed, stream, i));
-        rd->cur[G1][i] = rd->cur[G2][i] = rd->cur[S1][i] = rd->cur[S2][i] = g;
+        rd->cur[G1][i] = g * (1.0f + e);
+        rd->cur[G2][i] = g * (1.0f - e);
+        rd->cur[S1][i] = rd->cur[S2][i] = g;
         rd->cur[R][i] = 2.0f * g * g * g / STRIPE_BETA;
     }
     return 0;
@@ -263,7 +299,7 @@ int sq__rd_init_stripes(SqRd *rd, int nu, int nv, double dx, double flank, uint6
 
 /* ---- stepping ---- */
 
-enum { RD_PARALLEL_MIN = 65536 };
+enum { RD_PARALLEL_MIN = 65536, RD_MIN_STEPS = 1500 };
 
 static void step_rows(const SqRd *rd, float *const *cur, float *const *nxt)
 {
@@ -283,14 +319,11 @@ static void step_rows(const SqRd *rd, float *const *cur, float *const *nxt)
                 turing_row(nu, nxt[A] + o, nxt[B] + o, a + o, a + ou, a + od, b + o, b + ou,
                            b + od, rd->sub + o, rd->rate, rd->diff[A], rd->diff[B]);
         } else {
-            StripeRow s;
-            for (int i = 0; i < 5; i++) {
-                s.o[i] = nxt[i] + o;
-                s.c[i] = cur[i] + o;
-                s.u[i] = cur[i] + ou;
-                s.d[i] = cur[i] + od;
-            }
-            stripe_row(nu, &s, rd->sub + o, rd->rate, rd->diff[G1], rd->diff[S1],
+            float *const *c = cur, *const *m = nxt;
+            stripe_row(nu, m[G1] + o, m[G2] + o, m[R] + o, m[S1] + o, m[S2] + o, c[G1] + o,
+                       c[G2] + o, c[R] + o, c[S1] + o, c[S2] + o, c[G1] + ou, c[G2] + ou,
+                       c[S1] + ou, c[S2] + ou, c[G1] + od, c[G2] + od, c[S1] + od, c[S2] + od,
+                       rd->sub + o, rd->rate, rd->diff[G1], rd->diff[S1],
                        rd->live ? rd->live + o : NULL);
         }
     }
@@ -351,7 +384,9 @@ void sq__rd_solve(SqRd *rd, double tol, int every, long cap)
     while (rd->steps < cap) {
         long left = cap - rd->steps;
         sq__rd_steps(rd, (int)(left < every ? left : every));
-        if (sq__rd_last_change(rd) < tol) {
+        /* the start is nearly uniform and changes slowly too: no verdict before the
+         * pattern has had time to grow */
+        if (rd->steps >= RD_MIN_STEPS && sq__rd_last_change(rd) < tol) {
             rd->converged = 1;
             break;
         }
@@ -376,9 +411,9 @@ void sq__rd_value(const SqRd *rd, float *value)
 
 /* Convergence: the pattern chemical changes by less than this per unit time... */
 #define RD_TOL_SPOTS 2e-4
-#define RD_TOL_STRIPES 2e-5
+#define RD_TOL_STRIPES 2e-3
 /* ...checked this often, and never more than this many steps per system. */
-enum { RD_EVERY = 100, RD_CAP = 30000 };
+enum { RD_EVERY = 100, RD_CAP_SPOTS = 30000, RD_CAP_STRIPES = 10000 };
 
 void sq__rd_grid(const SqParams *p, int w, int h, int *nu, int *nv)
 {
@@ -409,7 +444,10 @@ static int init_system(SqRd *rd, int system, const SqParams *p, int nu, int nv, 
 
 static void solve(SqRd *rd)
 {
-    sq__rd_solve(rd, rd->system == SQ_RD_SPOTS ? RD_TOL_SPOTS : RD_TOL_STRIPES, RD_EVERY, RD_CAP);
+    if (rd->system == SQ_RD_SPOTS)
+        sq__rd_solve(rd, RD_TOL_SPOTS, RD_EVERY, RD_CAP_SPOTS);
+    else
+        sq__rd_solve(rd, RD_TOL_STRIPES, RD_EVERY, RD_CAP_STRIPES);
 }
 
 SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *err)
@@ -450,7 +488,7 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
         memset(&one, 0, sizeof one);
         const double s2 = p->RD_ReactionSpeed2;
         const double smax = s2 * (p->RD_FlankSpeed > 1 ? p->RD_FlankSpeed : 1);
-        const float dt = (float)fmin(0.8, 1.6 / (8.0 * TURING_DA + 16.0 * smax));
+        const float dt = turing_dt(smax);
         two.dt = dt;
         two.diff[A] = TURING_DA * dt;
         two.diff[B] = TURING_DB * dt;

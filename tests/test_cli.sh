@@ -57,7 +57,7 @@ run presets;              check "presets without subcommand" 2 err "say what to 
 run presets list;         check "presets list" 0 out "thesis/table_4_1_transversal.json" out "thesis/ca/vipera_berus.ca" out "transversal"
 run presets list --json;  check "presets list --json" 0 out '"kind": "ca"'
 run presets list /nonexistent; check "presets list missing dir" 1 err "squama: no presets folder here (/nonexistent)"
-run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca
+run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca "$SRC"/presets/complex/*.json
 check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal"
 run presets validate;     check "validate nothing" 2 err "validate needs at least one FILE"
 
