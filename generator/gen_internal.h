@@ -47,7 +47,9 @@ enum {
     SQ_STREAM_WARP_SMALL_Y,
     SQ_STREAM_COLOR_NOISE,
     SQ_STREAM_KEEL,
-    SQ_STREAM_BELLY
+    SQ_STREAM_BELLY,
+    SQ_STREAM_RD,
+    SQ_STREAM_RD2
 };
 
 /* ---- small helpers ---- */
@@ -202,6 +204,7 @@ SqStatus sq__pattern_transversal(const SqParams *p, SqPattern *pat, SqError *err
 SqStatus sq__pattern_longitudinal(const SqParams *p, SqPattern *pat, SqError *err);
 SqStatus sq__pattern_spots(const SqParams *p, SqPattern *pat, SqError *err);
 SqStatus sq__pattern_ca(const SqParams *p, SqPattern *pat, SqError *err);
+SqStatus sq__pattern_rd(const SqParams *p, SqPattern *pat, SqError *err);
 
 /* Fraction of pixel row y (of h) inside the band [b0, b1) (wrapping when b0 > b1). */
 double sq__band_coverage(int y, int h, double b0, double b1);
@@ -228,6 +231,68 @@ static inline float sq__profile_at(const float *v, int n, float t)
     int a = sq__wrap(f, n), b = a + 1 == n ? 0 : a + 1;
     return v[a] + (v[b] - v[a]) * (t - (float)f);
 }
+
+/* ---- reaction-diffusion (rd.c): Turk 1991 on a periodic grid ---- */
+
+/* One system's state on an nu x nv periodic grid (u across, v along the body). The
+ * chemicals are Turing's a, b (spots) or Meinhardt's g1, g2, r, s1, s2 (stripes). */
+typedef struct SqRd {
+    int system;     /* SqRdSystem */
+    int nu, nv, nchem;
+    float *cur[5], *nxt[5];
+    float *sub;     /* per cell: Turing's beta, or Meinhardt's c */
+    float *rate;    /* per column: the reaction's speed times the time step */
+    float *live;    /* per cell: 1 simulated, 0 frozen (NULL: all simulated) */
+    float dt;
+    float diff[5];  /* diffusion constant times the time step, per chemical */
+    long steps;     /* steps taken */
+    int converged;
+} SqRd;
+
+/* A Turing spot system (Turk's constants: a = b = 4, beta = 12 +- beta_var, D_a = 0.25,
+ * D_b = 0.0625) of speed s, times flank at u = 0 and 1 (a cosine in u); 0 or -1. */
+int sq__rd_init_spots(SqRd *rd, int nu, int nv, double s, double flank, double beta_var,
+                      uint64_t seed, uint64_t stream);
+
+/* A Meinhardt stripe system with diffusion dx of g1 and g2; 0 or -1. */
+int sq__rd_init_stripes(SqRd *rd, int nu, int nv, double dx, double flank, uint64_t seed,
+                        uint64_t stream);
+
+void sq__rd_free(SqRd *rd);
+
+/* n explicit steps (OpenMP over rows; the same result on any number of threads). */
+void sq__rd_steps(SqRd *rd, int n);
+
+/* The largest change of the pattern chemical (b or g1) per unit time in the last step. */
+float sq__rd_last_change(const SqRd *rd);
+
+/* Steps until the largest change per unit time falls below tol (checked every `every`
+ * steps) or `cap` steps; sets rd->converged. */
+void sq__rd_solve(SqRd *rd, double tol, int every, long cap);
+
+/* The pattern value per cell in [0, 1]: 1 in a feature's core, 0.5 at its edge, 0 at
+ * rest (spots: 1 - b/8, Turk's spots being b < 4; stripes: g1 / (g1 + g2)). */
+void sq__rd_value(const SqRd *rd, float *value);
+
+/* The whole complex pattern on its grid: the first system, the cascade, the value. */
+typedef struct SqRdResult {
+    int nu, nv;
+    float *value; /* final pattern value, nu * nv */
+    float *first; /* the first system's value in a cascade (NULL without one) */
+    long steps[2];
+    int converged[2];
+} SqRdResult;
+
+/* Grid size for a w x h texture: RD_Cells across, the rows set by the aspect ratio and
+ * RD_Anisotropy (features k times longer along v take k times fewer rows). */
+void sq__rd_grid(const SqParams *p, int w, int h, int *nu, int *nv);
+
+SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *err);
+void sq__rd_result_free(SqRdResult *r);
+
+/* Periodic Catmull-Rom upsampling of an sw x sh grid to dw x dh (cell centres aligned);
+ * -1 when out of memory. */
+int sq__rd_upsample(const float *src, int sw, int sh, float *dst, int dw, int dh);
 
 /* ---- outline (outline.c), warp (warp.c) ---- */
 

@@ -58,6 +58,7 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     case SQ_PATTERN_LONGITUDINAL: st = sq__pattern_longitudinal(p, &pat, err); break;
     case SQ_PATTERN_SPOTS: st = sq__pattern_spots(p, &pat, err); break;
     case SQ_PATTERN_OTHER_SIMPLE: st = sq__pattern_ca(p, &pat, err); break;
+    case SQ_PATTERN_COMPLEX: st = sq__pattern_rd(p, &pat, err); break;
     default: break;
     }
     if (st == SQ_OK)
@@ -296,10 +297,6 @@ SqStatus sq_gen_render_into(const SqParams *p, const SqGenOptions *opt, SqTextur
         return sq_error_set(err, SQ_ERR_INVALID, "size",
                             "texture size %dx%d is outside 8 to %d pixels per side", o.width,
                             o.height, SQ_GEN_MAX_SIZE);
-    if (p->Pattern_Type == SQ_PATTERN_COMPLEX)
-        return sq_error_set(err, SQ_ERR_UNSUPPORTED, "Pattern_Type",
-                            "the complex pattern type needs reaction-diffusion, which squama "
-                            "does not have yet");
 #ifdef _OPENMP
     int saved = omp_get_max_threads();
     if (o.threads > 0)

@@ -57,7 +57,7 @@ run presets;              check "presets without subcommand" 2 err "say what to 
 run presets list;         check "presets list" 0 out "thesis/table_4_1_transversal.json" out "thesis/ca/vipera_berus.ca" out "transversal"
 run presets list --json;  check "presets list --json" 0 out '"kind": "ca"'
 run presets list /nonexistent; check "presets list missing dir" 1 err "squama: no presets folder here (/nonexistent)"
-run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca
+run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca "$SRC"/presets/complex/*.json
 check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal"
 run presets validate;     check "validate nothing" 2 err "validate needs at least one FILE"
 
@@ -108,8 +108,12 @@ run render --ca "$TMP/bad.ca" -o "$TMP/r/ca2" --size 32
 check "render bad --ca" 1 err "($TMP/bad.ca:6)"
 printf '{"format": "squama-preset/1", "Pattern_Type": "complex"}\n' >"$TMP/complex.json"
 run render "$TMP/complex.json" -o "$TMP/r/cx" --size 32
-check "render complex" 1 err "needs reaction-diffusion"
-[ -e "$TMP/r/cx/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
+check "render complex" 0 out "32x32 complex pattern"
+[ -s "$TMP/r/cx/basecolor.png" ] || { echo "FAIL: complex basecolor.png missing"; fails=$((fails + 1)); }
+printf '{"format": "squama-preset/1", "Pattern_Type": "complex", "RD_System": "waves"}\n' >"$TMP/complex_bad.json"
+run render "$TMP/complex_bad.json" -o "$TMP/r/cx2" --size 32
+check "render complex bad system" 1 err "RD_System"
+[ -e "$TMP/r/cx2/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
 run render "$TMP/typo.json" -o "$TMP/r/t";  check "render bad preset" 1 err "unknown key"
 
 # photo and preview

@@ -281,9 +281,13 @@ static void refusals(void **state)
     assert_contains(err.what, "outside 8 to 16384");
     assert_null(t.basecolor.px);
     o = sq_gen_options_default(64);
-    p.Pattern_Type = SQ_PATTERN_COMPLEX;
-    assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_ERR_UNSUPPORTED);
-    assert_string_equal(err.where, "Pattern_Type");
+    p.Pattern_Type = SQ_PATTERN_COMPLEX; /* reaction-diffusion: rendered, no longer refused */
+    assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_OK);
+    sq_gen_textures_free(&t);
+    p.RD_Cells = 8;
+    assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_ERR_INVALID);
+    assert_string_equal(err.where, "RD_Cells");
+    assert_null(t.basecolor.px);
     sq_params_default(&p);
     p.Spots_Tiling = -1;
     assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_ERR_INVALID);

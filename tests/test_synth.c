@@ -123,7 +123,9 @@ static void refusals(void **state)
     assert_contains(err.what, "does not fit");
     o.body_radius = 0;
     p.Pattern_Type = SQ_PATTERN_COMPLEX;
-    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_ERR_UNSUPPORTED);
+    p.RD_Anisotropy = 100;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &a, &m, NULL, &err), SQ_ERR_INVALID);
+    assert_string_equal(err.where, "RD_Anisotropy");
 }
 
 int main(void)

@@ -32,6 +32,21 @@ typedef enum SqPatternType {
     SQ_PATTERN_COUNT
 } SqPatternType;
 
+/* Reaction-diffusion systems (Turk 1991) and cascades, for Pattern_Type complex. */
+typedef enum SqRdSystem {
+    SQ_RD_SPOTS = 0, /* Turing's two-chemical system: spots */
+    SQ_RD_STRIPES,   /* Meinhardt's five-chemical system: random stripes */
+    SQ_RD_SYSTEM_COUNT
+} SqRdSystem;
+
+typedef enum SqRdCascade {
+    SQ_RD_CASCADE_NONE = 0,
+    SQ_RD_CASCADE_SPOTS,    /* small spots between the frozen first features (cheetah) */
+    SQ_RD_CASCADE_ROSETTES, /* the same with the frozen cells reset to rest (leopard) */
+    SQ_RD_CASCADE_STRIPES,  /* stripes between the frozen first features (giraffe, multi-width) */
+    SQ_RD_CASCADE_COUNT
+} SqRdCascade;
+
 typedef struct SqParams {
     /* pattern type and background (§4.1, §4.2) */
     int Pattern_Type; /* SqPatternType */
@@ -70,6 +85,24 @@ typedef struct SqParams {
     /* cellular automaton (§4.2.4, Appendix E) */
     SqCa CA_Descriptor;
     double CA_CircleDiameter;
+
+    /* complex pattern: reaction-diffusion (Turk 1991; thesis §4.2.5 and §6.1) */
+    int RD_System;  /* SqRdSystem */
+    int RD_Cascade; /* SqRdCascade */
+    int RD_Cells;
+    double RD_ReactionSpeed;
+    double RD_ReactionSpeed2;
+    double RD_BetaVariation;
+    double RD_StripeDiffusion;
+    double RD_StripeDiffusion2;
+    double RD_Anisotropy;
+    double RD_FlankSpeed;
+    double RD_Color1[4];
+    double RD_Threshold1;
+    double RD_Color2[4];
+    double RD_Threshold2;
+    double RD_Color3[4];
+    double RD_Softness;
 
     /* pattern post-process (§4.2.4, §4.2.7) */
     int Pattern_RotatePattern90Degrees;
@@ -194,6 +227,10 @@ size_t sq_param_format(const SqParams *p, const SqParamSpec *s, int digits, char
 /* Pattern type names, as used in presets ("none", "longitudinal", ...). */
 const char *sq_pattern_type_name(int type);
 extern const char *const sq_pattern_type_names[];
+
+/* Names of the reaction-diffusion systems and cascades, as used in presets. */
+extern const char *const sq_rd_system_names[];
+extern const char *const sq_rd_cascade_names[];
 
 #ifdef __cplusplus
 }
