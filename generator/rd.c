@@ -27,7 +27,7 @@
  *   r'  = c s2 g1^2 + c s1 g2^2 - beta r,
  *   s1' = gamma (g1 - s1) + Ds lap s1 + rho1,           s2' likewise with g2.
  * Turk gives only D_x (here Dg, RD_StripeDiffusion: 0.1 broad, 0.008 thin stripes) and
- * D_y = 0.06. The other constants are squama's own tuning (2025, by rendering a scan of
+ * D_y = 0.06. The other constants are squama's own tuning (by rendering a scan of
  * them): with Turk's D_y for Ds the domains coarsened into blobs, and with rho1 = 0 a wide
  * stripe never splits (the g2 growth inside a g1 domain is beta s1 / g1^2 - alpha, which
  * rho1 > 0 makes positive); Ds = 0.2, rho1 = 0.001 give labyrinths of random stripes whose
