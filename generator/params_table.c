@@ -20,6 +20,8 @@ const char *const sq_pattern_type_names[] = {
     "none", "longitudinal", "transversal", "spots", "other_simple", "complex", NULL,
 };
 
+const char *const sq_scales_layout_names[] = {"grid", "voronoi", NULL};
+
 /* Figure 4.9's example automaton: the default for Pattern_Type other_simple. */
 static const char ca_default[] =
     "0 0 1 1 1 1 0 0\nrectangular\n0\n6\n1110 1\n1100 1\n1000 x\n";
@@ -258,6 +260,18 @@ static const SqParamSpec table[] = {
      .smax = 10, .group = "scales", .origin = SQ_ORIGIN_THESIS_D11,
      .ref = "D.11 \"Belly_warp_intensity\"",
      .help = "distortion of the stretched ventral scales"},
+    {.name = "Scales_Layout", .type = SQ_PT_ENUM, .offset = F(Scales_Layout),
+     .choices = sq_scales_layout_names, .def = {SQ_LAYOUT_GRID},
+     .min = 0, .max = SQ_LAYOUT_COUNT - 1, .smin = 0, .smax = SQ_LAYOUT_COUNT - 1,
+     .group = "scales", .origin = SQ_ORIGIN_SQUAMA, .ref = "Landreneau 2011, Ch. V",
+     .help = "grid: the thesis' staggered rows; voronoi: as many scales on a relaxed "
+             "Voronoi tessellation"},
+    {.name = "Scales_VoronoiAnisotropy", .type = SQ_PT_FLOAT,
+     .offset = F(Scales_VoronoiAnisotropy), .def = {0.5}, .min = 0, .max = 4, .smin = 0,
+     .smax = 1.5, .group = "scales", .origin = SQ_ORIGIN_SQUAMA,
+     .ref = "Landreneau 2011, Ch. V (alpha)",
+     .help = "voronoi layout: half-length of the sites' segments along v, in scale "
+             "spacings (0 round cells)"},
 
     /* ---- roughness and normal map ---- */
     {.name = "Scales_RoughnessMin", .type = SQ_PT_FLOAT, .offset = F(Scales_RoughnessMin),

@@ -32,6 +32,14 @@ typedef enum SqPatternType {
     SQ_PATTERN_COUNT
 } SqPatternType;
 
+/* How the scales are laid out (Scales_Layout): the thesis' staggered grid (§4.3.2) or an
+ * anisotropic centroidal Voronoi tessellation (Landreneau 2011, Chapter V). */
+typedef enum SqScalesLayout {
+    SQ_LAYOUT_GRID = 0,
+    SQ_LAYOUT_VORONOI,
+    SQ_LAYOUT_COUNT
+} SqScalesLayout;
+
 typedef struct SqParams {
     /* pattern type and background (§4.1, §4.2) */
     int Pattern_Type; /* SqPatternType */
@@ -107,6 +115,8 @@ typedef struct SqParams {
     double Scales_RotationRandom;
     double Scales_BellyScalesPct;
     double Scales_BellyWarpIntensity;
+    int Scales_Layout; /* SqScalesLayout */
+    double Scales_VoronoiAnisotropy;
 
     /* roughness (§4.4) and normal map (§5) */
     double Scales_RoughnessMin;
@@ -194,6 +204,9 @@ size_t sq_param_format(const SqParams *p, const SqParamSpec *s, int digits, char
 /* Pattern type names, as used in presets ("none", "longitudinal", ...). */
 const char *sq_pattern_type_name(int type);
 extern const char *const sq_pattern_type_names[];
+
+/* Scales layout names, as used in presets ("grid", "voronoi"). */
+extern const char *const sq_scales_layout_names[];
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,628 @@
+/* The Voronoi scale layout (Scales_Layout voronoi): the leaf-shaped scale of §4.3.1 on
+ * an anisotropic centroidal Voronoi tessellation (Landreneau 2011, Chapter V) instead of
+ * the thesis' staggered grid (§4.3.2).
+ *
+ * Metric. Distances are in scale spacings: u is scaled by X sqrt(2) and v by Y / sqrt(2)
+ * (X, Y = Scales_XAmount, Scales_YAmount), which makes the grid layout's cells (rhombi
+ * one column wide and two rows tall: the Voronoi cells of its staggered rows) squares
+ * of unit area turned 45 degrees. An isotropic tessellation thus keeps the grid's
+ * proportions for any X and Y. Landreneau's anisotropy makes every site a line segment
+ * along the body (v) of half-length alpha = Scales_VoronoiAnisotropy: a point's
+ * distance to a site is its distance to the nearest point of that segment,
+ * sqrt(du^2 + max(0, |dv| - alpha)^2), which stretches the cells along the body and
+ * turns hexagons towards rhombi, as in his Figure 17. Everything wraps in u and v.
+ *
+ * Sites. The X * Y sites start on a staggered grid (odd rows half a column over),
+ * jittered by up to JITTER of a column and a row from the preset's Seed. The lateral
+ * line: Landreneau's artist-drawn row of scales that fixes the rest's orientation; for
+ * reptiles "the closest analog to a lateral line ... might be backbone scales ... a row
+ * of scales corresponding directly to the spine" (Chapter IV), and his lizard has it
+ * "painted down its back" (Figure 28). Here it is the dorsal midline u = 0.5: the
+ * first site of every other starting row (the stagger's spacing), evenly spaced along
+ * v, unjittered and held fixed by the relaxation. It is straight along v, so the
+ * orientation field he smooths from it is v everywhere: sites need no orientation.
+ *
+ * Relaxation. Lloyd's algorithm on a raster of RASTER samples per spacing (a property of
+ * the parameters, never of the texture size: a preset looks the same at any size):
+ * every sample finds its nearest site through a bucket grid of about one site per
+ * bucket, then every free site moves to its cell's centroid. Sums run in raster order,
+ * so the result is the same on any thread count.
+ *
+ * Scales. Each cell gets one stamp, upright along the body (plus
+ * Scales_RotationRandom), centred on the cell's bounding box, with the box's
+ * proportions, and enlarged until its lens covers every sample of the cell: no cell
+ * shows a hole, and like the grid's lenses (which cover their rhombi exactly) each
+ * scale reaches a little over its neighbours. Scales_ScaleSize and Scales_ScaleSizeXY
+ * scale that, relative to the default (1, 2) that gives the grid's scales their cells.
+ * The painting order is the grid's: scales higher up (lower v) cover lower ones, and
+ * of two at one height the right one covers the left.
+ *
+ * Ventral scales (§4.3.3) as in the grid: in every starting row the cell nearest
+ * Scales_BellyScalesPct of the width (and nearest 1 - that) is the last lateral scale;
+ * cells beyond it are left out and its centre column is stretched to the seam. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gen_internal.h"
+
+enum { RASTER = 6, MAX_SAMPLES = 1 << 20 };
+static const double JITTER = 0.35;  /* of a column and of a row */
+static const double COVER = 1.04;   /* lens margin over the cell, for the stamp's soft edge */
+
+static double wrapd(double d, double D) /* into [-D/2, D/2) */
+{
+    return d - D * floor(d / D + 0.5);
+}
+
+static double wrap01(double x, double D) /* into [0, D) */
+{
+    x -= D * floor(x / D);
+    return x >= D ? 0 : x;
+}
+
+void sq__voronoi_free(SqVoronoi *vo)
+{
+    if (!vo)
+        return;
+    free(vo->u);
+    free(vo->v);
+    free(vo->fixed);
+    free(vo->owner);
+    free(vo->area);
+    free(vo->cu);
+    free(vo->cv);
+    free(vo->bu0);
+    free(vo->bu1);
+    free(vo->bv0);
+    free(vo->bv1);
+    memset(vo, 0, sizeof *vo);
+}
+
+/* Sites in spacings (U in [0, DU), V in [0, DV)) and the bucket grid over them. */
+typedef struct Space {
+    double DU, DV, a;
+    int n, nbu, nbv, ku, kv;
+    double *U, *V;
+    int *start, *list; /* buckets: sites of bucket b are list[start[b] .. start[b + 1]) */
+} Space;
+
+static int bucket_of(const Space *S, double U, double V)
+{
+    int bu = (int)(U / S->DU * S->nbu), bv = (int)(V / S->DV * S->nbv);
+    bu = bu < 0 ? 0 : (bu >= S->nbu ? S->nbu - 1 : bu);
+    bv = bv < 0 ? 0 : (bv >= S->nbv ? S->nbv - 1 : bv);
+    return bv * S->nbu + bu;
+}
+
+/* Counting sort of the sites into buckets, in site order. */
+static void bucket_sites(Space *S)
+{
+    const int nb = S->nbu * S->nbv;
+    memset(S->start, 0, sizeof(int) * (size_t)(nb + 1));
+    for (int k = 0; k < S->n; k++)
+        S->start[bucket_of(S, S->U[k], S->V[k]) + 1]++;
+    for (int b = 0; b < nb; b++)
+        S->start[b + 1] += S->start[b];
+    int *fill = S->start + nb + 1; /* nb more ints of room */
+    memcpy(fill, S->start, sizeof(int) * (size_t)nb);
+    for (int k = 0; k < S->n; k++)
+        S->list[fill[bucket_of(S, S->U[k], S->V[k])]++] = k;
+}
+
+/* The nearest site to (U, V) by the segment distance; ties to the lower index. */
+static int nearest(const Space *S, double U, double V)
+{
+    const int b = bucket_of(S, U, V), bu = b % S->nbu, bv = b / S->nbu;
+    const int all_u = 2 * S->ku + 1 >= S->nbu, all_v = 2 * S->kv + 1 >= S->nbv;
+    const int u0 = all_u ? 0 : bu - S->ku, u1 = all_u ? S->nbu - 1 : bu + S->ku;
+    const int v0 = all_v ? 0 : bv - S->kv, v1 = all_v ? S->nbv - 1 : bv + S->kv;
+    int best = -1;
+    double bd = INFINITY;
+    for (int jv = v0; jv <= v1; jv++) {
+        const int rowb = sq__wrap(jv, S->nbv) * S->nbu;
+        for (int ju = u0; ju <= u1; ju++) {
+            const int c = rowb + sq__wrap(ju, S->nbu);
+            for (int i = S->start[c]; i < S->start[c + 1]; i++) {
+                const int k = S->list[i];
+                const double du = wrapd(U - S->U[k], S->DU);
+                double dv = fabs(wrapd(V - S->V[k], S->DV)) - S->a;
+                dv = dv > 0 ? dv : 0;
+                const double d = du * du + dv * dv;
+                if (d < bd || (d == bd && k < best)) {
+                    bd = d;
+                    best = k;
+                }
+            }
+        }
+    }
+    return best;
+}
+
+static void assign(const Space *S, int rw, int rh, int *owner)
+{
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < rh; y++) {
+        const double V = (y + 0.5) / rh * S->DV;
+        for (int x = 0; x < rw; x++)
+            owner[(size_t)y * rw + x] = nearest(S, (x + 0.5) / rw * S->DU, V);
+    }
+}
+
+SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err)
+{
+    memset(vo, 0, sizeof *vo);
+    const int X = p->Scales_XAmount, Y = p->Scales_YAmount, n = X * Y;
+    Space S = {.DU = X * M_SQRT2, .DV = Y / M_SQRT2, .a = p->Scales_VoronoiAnisotropy, .n = n};
+    double k = RASTER;
+    if (S.DU * S.DV * k * k > MAX_SAMPLES)
+        k = sqrt(MAX_SAMPLES / (S.DU * S.DV));
+    const int rw = (int)ceil(S.DU * k) > 8 ? (int)ceil(S.DU * k) : 8;
+    const int rh = (int)ceil(S.DV * k) > 8 ? (int)ceil(S.DV * k) : 8;
+    S.nbu = S.DU >= 2 ? (int)S.DU : 1;
+    S.nbv = S.DV >= 2 ? (int)S.DV : 1;
+    /* a sample's nearest site is within a spacing or so (the sites stay spread out), so
+     * two buckets either way hold it, plus the segment's reach along v */
+    S.ku = 2;
+    S.kv = 2 + (int)ceil(S.a / (S.DV / S.nbv));
+    const int nb = S.nbu * S.nbv;
+    const size_t ns = (size_t)rw * rh;
+    S.U = malloc(sizeof(double) * (size_t)n);
+    S.V = malloc(sizeof(double) * (size_t)n);
+    S.start = malloc(sizeof(int) * (size_t)(2 * nb + 1));
+    S.list = malloc(sizeof(int) * (size_t)n);
+    double *sum = malloc(sizeof(double) * 4 * (size_t)n); /* du, dv and, for the box, ranges */
+    vo->n = n;
+    vo->X = X;
+    vo->Y = Y;
+    vo->rw = rw;
+    vo->rh = rh;
+    vo->u = malloc(sizeof(double) * (size_t)n);
+    vo->v = malloc(sizeof(double) * (size_t)n);
+    vo->fixed = calloc((size_t)n, 1);
+    vo->owner = malloc(sizeof(int) * ns);
+    vo->area = malloc(sizeof(int) * (size_t)n);
+    vo->cu = malloc(sizeof(double) * (size_t)n);
+    vo->cv = malloc(sizeof(double) * (size_t)n);
+    vo->bu0 = malloc(sizeof(double) * (size_t)n);
+    vo->bu1 = malloc(sizeof(double) * (size_t)n);
+    vo->bv0 = malloc(sizeof(double) * (size_t)n);
+    vo->bv1 = malloc(sizeof(double) * (size_t)n);
+    if (!S.U || !S.V || !S.start || !S.list || !sum || !vo->u || !vo->v || !vo->fixed ||
+        !vo->owner || !vo->area || !vo->cu || !vo->cv || !vo->bu0 || !vo->bu1 || !vo->bv0 ||
+        !vo->bv1) {
+        free(S.U);
+        free(S.V);
+        free(S.start);
+        free(S.list);
+        free(sum);
+        sq__voronoi_free(vo);
+        return sq_error_set(err, SQ_ERR_NOMEM, "Scales_Layout",
+                            "out of memory for the Voronoi layout of %d scales", n);
+    }
+
+    /* the jittered staggered grid, and the lateral line down the back */
+    const uint64_t seed = (uint64_t)p->Seed;
+    for (int j = 0; j < Y; j++)
+        for (int c = 0; c < X; c++) {
+            const int s = j * X + c;
+            const double ju = JITTER * sq__rand11(seed, SQ_STREAM_VORONOI, 2 * (uint64_t)s);
+            const double jv = JITTER * sq__rand11(seed, SQ_STREAM_VORONOI, 2 * (uint64_t)s + 1);
+            S.U[s] = wrap01((0.5 + (c + 0.5 * (j & 1) + ju) / X) * S.DU, S.DU);
+            S.V[s] = wrap01((j + 0.5 + jv) / Y * S.DV, S.DV);
+        }
+    const int lines = Y / 2 > 0 ? Y / 2 : 1;
+    for (int i = 0; i < lines; i++) {
+        const int s = 2 * i * X; /* column 0 of row 2i: its unjittered place is u = 0.5 */
+        S.U[s] = 0.5 * S.DU;
+        S.V[s] = (i + 0.25) / lines * S.DV;
+        vo->fixed[s] = 1;
+    }
+
+    for (int it = 0; it <= iterations; it++) {
+        bucket_sites(&S);
+        assign(&S, rw, rh, vo->owner);
+        if (it == iterations)
+            break;
+        memset(sum, 0, sizeof(double) * 2 * (size_t)n);
+        memset(vo->area, 0, sizeof(int) * (size_t)n);
+        for (int y = 0; y < rh; y++) {
+            const double V = (y + 0.5) / rh * S.DV;
+            for (int x = 0; x < rw; x++) {
+                const int o = vo->owner[(size_t)y * rw + x];
+                sum[2 * o] += wrapd((x + 0.5) / rw * S.DU - S.U[o], S.DU);
+                sum[2 * o + 1] += wrapd(V - S.V[o], S.DV);
+                vo->area[o]++;
+            }
+        }
+        for (int s = 0; s < n; s++)
+            if (!vo->fixed[s] && vo->area[s] > 0) {
+                S.U[s] = wrap01(S.U[s] + sum[2 * s] / vo->area[s], S.DU);
+                S.V[s] = wrap01(S.V[s] + sum[2 * s + 1] / vo->area[s], S.DV);
+            }
+    }
+
+    /* the cells: area, centroid and bounding box, in texture units */
+    for (int s = 0; s < n; s++) {
+        vo->area[s] = 0;
+        sum[4 * s] = sum[4 * s + 1] = 0;
+        vo->bu0[s] = vo->bv0[s] = INFINITY;
+        vo->bu1[s] = vo->bv1[s] = -INFINITY;
+    }
+    for (int y = 0; y < rh; y++) {
+        const double V = (y + 0.5) / rh * S.DV;
+        for (int x = 0; x < rw; x++) {
+            const int o = vo->owner[(size_t)y * rw + x];
+            const double du = wrapd((x + 0.5) / rw * S.DU - S.U[o], S.DU) / S.DU;
+            const double dv = wrapd(V - S.V[o], S.DV) / S.DV;
+            sum[4 * o] += du;
+            sum[4 * o + 1] += dv;
+            vo->area[o]++;
+            vo->bu0[o] = du < vo->bu0[o] ? du : vo->bu0[o];
+            vo->bu1[o] = du > vo->bu1[o] ? du : vo->bu1[o];
+            vo->bv0[o] = dv < vo->bv0[o] ? dv : vo->bv0[o];
+            vo->bv1[o] = dv > vo->bv1[o] ? dv : vo->bv1[o];
+        }
+    }
+    for (int s = 0; s < n; s++) {
+        vo->u[s] = S.U[s] / S.DU;
+        vo->v[s] = S.V[s] / S.DV;
+        if (vo->area[s] == 0) { /* a site without samples: an empty box at the site */
+            vo->bu0[s] = vo->bu1[s] = vo->bv0[s] = vo->bv1[s] = 0;
+            vo->cu[s] = vo->u[s];
+            vo->cv[s] = vo->v[s];
+            continue;
+        }
+        vo->cu[s] = vo->u[s] + sum[4 * s] / vo->area[s];
+        vo->cv[s] = vo->v[s] + sum[4 * s + 1] / vo->area[s];
+    }
+    free(S.U);
+    free(S.V);
+    free(S.start);
+    free(S.list);
+    free(sum);
+    return SQ_OK;
+}
+
+double sq__voronoi_energy(const SqVoronoi *vo)
+{
+    const double DU = vo->X * M_SQRT2, DV = vo->Y / M_SQRT2;
+    double e = 0;
+    for (int y = 0; y < vo->rh; y++)
+        for (int x = 0; x < vo->rw; x++) {
+            const int o = vo->owner[(size_t)y * vo->rw + x];
+            const double du = wrapd((x + 0.5) / vo->rw - vo->cu[o], 1) * DU;
+            const double dv = wrapd((y + 0.5) / vo->rh - vo->cv[o], 1) * DV;
+            e += du * du + dv * dv;
+        }
+    return e / ((double)vo->rw * vo->rh);
+}
+
+/* ---- painting ---- */
+
+/* One scale, in texture units: centre, lens half-sizes, and how it is drawn. */
+typedef struct Scale {
+    double u, v, hu, hv; /* centre in [0, 1); lens half-width and half-height */
+    double th;           /* rotation, radians */
+    int role;            /* belly role as in scales.c: 0 lateral, 1/2/3 last lateral, -1 none */
+    int row;             /* starting row (the belly's wobble phase) */
+} Scale;
+
+typedef struct Inst {
+    double cx, cy; /* unwrapped centre, pixels */
+    int k;
+} Inst;
+
+static int inst_cmp(const void *a, const void *b)
+{
+    const Inst *x = a, *y = b;
+    if (x->cy != y->cy)
+        return x->cy < y->cy ? -1 : 1;
+    if (x->cx != y->cx) /* the right one in front */
+        return x->cx > y->cx ? -1 : 1;
+    return (x->k > y->k) - (x->k < y->k);
+}
+
+/* The smallest factor by which the lens (half-sizes LENS_HW x LENS_HH in stamp units)
+ * must grow to contain the point (X, Y), X >= 0: where (|X| / l + D)^2 + (Y / l)^2 = R^2. */
+static double lens_reach(double X, double Y)
+{
+    const double A = X * X + Y * Y, B = 2 * SQ__CONE_D * X;
+    const double C = SQ__CONE_D * SQ__CONE_D - SQ__CONE_R * SQ__CONE_R;
+    if (A <= 0)
+        return 0;
+    const double t = (-B + sqrt(B * B - 4 * A * C)) / (2 * A);
+    return 1 / t;
+}
+
+/* The scales of a tessellation; NULL when out of memory. */
+static Scale *make_scales(const SqParams *p, const SqVoronoi *vo)
+{
+    const int n = vo->n, X = vo->X, Y = vo->Y;
+    Scale *sc = malloc(sizeof(Scale) * (size_t)n);
+    double *lam = calloc((size_t)n, sizeof(double));
+    if (!sc || !lam) {
+        free(sc);
+        free(lam);
+        return NULL;
+    }
+    const double hsu = 0.5 / vo->rw, hsv = 0.5 / vo->rh; /* half a raster step */
+    for (int s = 0; s < n; s++) {
+        sc[s].hu = (vo->bu1[s] - vo->bu0[s]) / 2 + hsu;
+        sc[s].hv = (vo->bv1[s] - vo->bv0[s]) / 2 + hsv;
+        sc[s].u = wrap01(vo->u[s] + (vo->bu0[s] + vo->bu1[s]) / 2, 1);
+        sc[s].v = wrap01(vo->v[s] + (vo->bv0[s] + vo->bv1[s]) / 2, 1);
+    }
+    /* the lens, with the box's proportions, grown to reach every sample's far corner */
+    for (int y = 0; y < vo->rh; y++)
+        for (int x = 0; x < vo->rw; x++) {
+            const int o = vo->owner[(size_t)y * vo->rw + x];
+            const double du = fabs(wrapd((x + 0.5) / vo->rw - sc[o].u, 1)) + hsu;
+            const double dv = fabs(wrapd((y + 0.5) / vo->rh - sc[o].v, 1)) + hsv;
+            const double l = lens_reach(du / sc[o].hu * SQ__LENS_HW, dv / sc[o].hv * SQ__LENS_HH);
+            lam[o] = l > lam[o] ? l : lam[o];
+        }
+    const double rot_max = p->Scales_RotationRandom * M_PI / 180.0;
+    const double fu = p->Scales_ScaleSize * p->Scales_ScaleSizeXY[0];
+    const double fv = p->Scales_ScaleSize * p->Scales_ScaleSizeXY[1] / 2;
+    const uint64_t seed = (uint64_t)p->Seed;
+    for (int s = 0; s < n; s++) {
+        const uint64_t id = 4 * (uint64_t)s;
+        const double size = 1.0 - p->Scales_SizeRandom * sq__rand01(seed, SQ_STREAM_SCALES, id + 2);
+        const double l = (lam[s] > 1 ? lam[s] : 1) * COVER * size;
+        sc[s].hu *= l * fu;
+        sc[s].hv *= l * fv;
+        sc[s].th = rot_max * sq__rand11(seed, SQ_STREAM_SCALES, id + 3);
+        sc[s].row = s / X;
+        sc[s].role = 0;
+    }
+    free(lam);
+
+    /* ventral scales: per starting row, the last lateral cells beside the belly */
+    const double pct = p->Scales_BellyScalesPct;
+    if (pct > 0)
+        for (int j = 0; j < Y; j++) {
+            int left = 0, right = 0;
+            double bl = 2, br = 2;
+            for (int c = 0; c < X; c++) {
+                const double f = sc[j * X + c].u;
+                if (fabs(f - pct) < bl) {
+                    bl = fabs(f - pct);
+                    left = c;
+                }
+                if (fabs(f - (1 - pct)) < br) {
+                    br = fabs(f - (1 - pct));
+                    right = c;
+                }
+            }
+            const double fl = sc[j * X + left].u, fr = sc[j * X + right].u;
+            for (int c = 0; c < X; c++) {
+                Scale *e = &sc[j * X + c];
+                e->role = (c == left ? 1 : 0) | (c == right ? 2 : 0);
+                if (!e->role && (e->u < fl || e->u > fr))
+                    e->role = -1;
+            }
+        }
+    return sc;
+}
+
+/* Paints the scales into a w x h height map (trans: w x h scratch). */
+static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *stamp, int s,
+                      const int *span, double ex, double ey, float *height, float *trans, int w,
+                      int h, SqError *err)
+{
+    /* every copy of every drawn scale that reaches the texture, sorted front to back */
+    size_t ni = 0, cap = (size_t)n * 2 + 16;
+    Inst *in = malloc(sizeof(Inst) * cap);
+    double *ext = malloc(sizeof(double) * 2 * (size_t)n); /* pixel half-extents */
+    float *wob = malloc(sizeof(float) * (size_t)w);
+    if (!in || !ext || !wob) {
+        free(in);
+        free(ext);
+        free(wob);
+        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+    }
+    double ry_max = 0;
+    for (int k = 0; k < n; k++) {
+        double rx = ex * sc[k].hu * w / SQ__LENS_HW, ry = ey * sc[k].hv * h / SQ__LENS_HH;
+        if (sc[k].th != 0)
+            rx = ry = sqrt(rx * rx + ry * ry);
+        ext[2 * k] = rx;
+        ext[2 * k + 1] = ry;
+        if (sc[k].role < 0)
+            continue;
+        ry_max = ry > ry_max ? ry : ry_max;
+        const double cx = sc[k].u * w, cy = sc[k].v * h;
+        /* the ventral extension reaches the tile's edge: every copy in u is needed */
+        const double rxe = sc[k].role > 0 ? w : rx;
+        for (int m = (int)floor((-ry - cy) / h); m <= (int)floor((h + ry - cy) / h); m++)
+            for (int q = (int)floor((-rxe - cx) / w); q <= (int)floor((w + rxe - cx) / w); q++) {
+                if (ni == cap) {
+                    Inst *t = realloc(in, sizeof(Inst) * cap * 2);
+                    if (!t) {
+                        free(in);
+                        free(ext);
+                        free(wob);
+                        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+                    }
+                    in = t;
+                    cap *= 2;
+                }
+                in[ni++] = (Inst){.cx = cx + (double)q * w, .cy = cy + (double)m * h, .k = k};
+            }
+    }
+    qsort(in, ni, sizeof(Inst), inst_cmp);
+    const double belly_amp = p->Scales_BellyWarpIntensity / 256.0 * h * 0.1;
+    for (int x = 0; x < w; x++)
+        wob[x] = (float)(belly_amp * sin(2 * M_PI * 2 * (x + 0.5) / w));
+
+    const int band = 32, nbands = (h + band - 1) / band;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int bi = 0; bi < nbands; bi++) {
+        const int y0 = bi * band, y1 = y0 + band < h ? y0 + band : h;
+        for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++) {
+            trans[i] = 1.0f;
+            height[i] = 0.0f;
+        }
+        /* the instances whose centre is within ry_max of the band */
+        size_t lo = 0, hi = ni;
+        while (lo < hi) {
+            size_t mid = (lo + hi) / 2;
+            if (in[mid].cy < y0 - ry_max)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        for (size_t ii = lo; ii < ni && in[ii].cy <= y1 + ry_max; ii++) {
+            const Scale *e = &sc[in[ii].k];
+            const double cx = in[ii].cx, cy = in[ii].cy, rx = ext[2 * in[ii].k], ry = ext[2 * in[ii].k + 1];
+            const int role = e->role;
+            int sy0 = (int)floor(cy - ry), sy1 = (int)ceil(cy + ry);
+            if (sy0 < y0) sy0 = y0;
+            if (sy1 > y1) sy1 = y1;
+            if (sy0 >= sy1)
+                continue;
+            double xmin = cx - rx, xmax = cx + rx;
+            const double tile = floor(cx / w) * w;
+            if (role & 1)
+                xmin = tile;
+            if (role & 2)
+                xmax = tile + w;
+            int sx0 = (int)floor(xmin), sx1 = (int)ceil(xmax);
+            if (sx0 < 0) sx0 = 0;
+            if (sx1 > w) sx1 = w;
+            if (sx0 >= sx1)
+                continue;
+            const float cs = (float)cos(e->th), sn = (float)sin(e->th);
+            const float iax = (float)(SQ__LENS_HW / (e->hu * w)), iay = (float)(SQ__LENS_HH / (e->hv * h));
+            const float half_s = 0.5f * (float)s;
+            for (int y = sy0; y < sy1; y++) {
+                float *row = height + (size_t)y * w, *tr = trans + (size_t)y * w;
+                const float dy0 = (float)(y + 0.5 - cy);
+                const float belly_v = belly_amp > 0 ? (float)sin(2 * M_PI * (y + 0.5) / h * 3 + e->row) : 0.0f;
+                int xa = sx0, xb = sx1;
+                if (e->th == 0) { /* only the columns where this stamp row has content */
+                    float fyr = (dy0 * iay + 1) * half_s - 0.5f;
+                    int r0 = (int)fyr, r1 = r0 + 1;
+                    if (fyr < 0 || r1 >= s)
+                        continue;
+                    int clo = span[2 * r0] < span[2 * r1] ? span[2 * r0] : span[2 * r1];
+                    int chi = span[2 * r0 + 1] > span[2 * r1 + 1] ? span[2 * r0 + 1] : span[2 * r1 + 1];
+                    if (clo > chi && !role)
+                        continue;
+                    double xl = cx + ((clo - 0.5) / half_s - 1) / iax, xr = cx + ((chi + 1.5) / half_s - 1) / iax;
+                    if (!(role & 1) && xl > xa)
+                        xa = (int)floor(xl);
+                    if (!(role & 2) && xr < xb)
+                        xb = (int)ceil(xr);
+                    if (clo > chi) { /* empty row: only the ventral extension is left */
+                        if (role & 1) xb = (int)ceil(cx);
+                        if (role & 2) xa = (int)floor(cx);
+                    }
+                    if (xa < sx0) xa = sx0;
+                    if (xb > sx1) xb = sx1;
+                }
+                for (int x = xa; x < xb; x++) {
+                    if (tr[x] <= 0.0f)
+                        continue;
+                    float dx = (float)(x + 0.5 - cx), dy = dy0;
+                    if (((role & 1) && dx < 0) || ((role & 2) && dx > 0)) {
+                        /* the ventral scale: this scale's centre column, stretched */
+                        dx = 0;
+                        dy += wob[x] * belly_v;
+                    }
+                    float Xs = (dx * cs + dy * sn) * iax, Ys = (-dx * sn + dy * cs) * iay;
+                    if (Xs <= -1 || Xs >= 1 || Ys <= -1 || Ys >= 1)
+                        continue;
+                    float fx = (Xs + 1) * half_s - 0.5f, fy = (Ys + 1) * half_s - 0.5f;
+                    fx = fx < 0 ? 0 : (fx > s - 1.001f ? s - 1.001f : fx);
+                    fy = fy < 0 ? 0 : (fy > s - 1.001f ? s - 1.001f : fy);
+                    const int x0 = (int)fx, yy0 = (int)fy;
+                    const float tx = fx - x0, ty = fy - yy0;
+                    const float *p00 = stamp + 2 * (yy0 * s + x0), *p01 = p00 + 2 * s;
+                    float a0 = p00[1] + (p00[3] - p00[1]) * tx, a1 = p01[1] + (p01[3] - p01[1]) * tx;
+                    float a = a0 + (a1 - a0) * ty;
+                    if (a <= 0)
+                        continue;
+                    float h0 = p00[0] + (p00[2] - p00[0]) * tx, h1 = p01[0] + (p01[2] - p01[0]) * tx;
+                    float t = tr[x];
+                    row[x] += t * a * (h0 + (h1 - h0) * ty);
+                    tr[x] = t * (1.0f - a);
+                }
+            }
+        }
+    }
+    free(in);
+    free(ext);
+    free(wob);
+    return SQ_OK;
+}
+
+SqStatus sq__scales_voronoi(const SqParams *p, float *height, float *scratch, int w, int h,
+                            SqError *err)
+{
+    if (p->Scales_ScaleSize * p->Scales_ScaleSizeXY[0] <= 0 ||
+        p->Scales_ScaleSize * p->Scales_ScaleSizeXY[1] <= 0) {
+        memset(height, 0, sizeof(float) * (size_t)w * h);
+        return SQ_OK;
+    }
+    SqVoronoi vo;
+    SqStatus st = sq__voronoi_build(p, SQ_VORONOI_ITERATIONS, &vo, err);
+    if (st != SQ_OK)
+        return st;
+    Scale *sc = make_scales(p, &vo);
+    const int n = vo.n;
+    sq__voronoi_free(&vo);
+    if (!sc)
+        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+
+    /* pixels per stamp unit of the largest scale decide the stamp's resolution */
+    double amax = 0;
+    for (int k = 0; k < n; k++) {
+        const double ax = sc[k].hu * w / SQ__LENS_HW, ay = sc[k].hv * h / SQ__LENS_HH;
+        amax = ax > amax ? ax : amax;
+        amax = ay > amax ? ay : amax;
+    }
+    int s = 32;
+    while (s < 512 && s < 2 * amax)
+        s *= 2;
+    /* as in the grid: a coarse stamp is painted at half resolution and interpolated up */
+    int pw = w, ph = h;
+    float *ph_height = height, *ph_trans = scratch;
+    const int half = 2 * amax / s > 1.25 && w % 2 == 0 && h % 2 == 0 && w >= 512 && h >= 512;
+    if (half) {
+        pw = w / 2;
+        ph = h / 2;
+        ph_height = scratch;
+        ph_trans = scratch + (size_t)pw * ph;
+    }
+    float *stamp = sq__falloc((size_t)2 * s * s);
+    int *span = malloc(sizeof(int) * 2 * (size_t)s);
+    if (!stamp || !span || sq__scale_stamp(p, stamp, s) != 0) {
+        sq__ffree(stamp);
+        free(span);
+        free(sc);
+        return sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+    }
+    /* extent of the stamp's content (stamp units) and, per stamp row, its columns */
+    double ex = 0, ey = 0;
+    for (int j = 0; j < s; j++) {
+        span[2 * j] = s;
+        span[2 * j + 1] = -1;
+        for (int i = 0; i < s; i++)
+            if (stamp[2 * (j * s + i) + 1] > 0 || stamp[2 * (j * s + i)] > 0) {
+                double X = fabs((i + 0.5) / s * 2 - 1) + 1.0 / s, Y = fabs((j + 0.5) / s * 2 - 1) + 1.0 / s;
+                ex = X > ex ? X : ex;
+                ey = Y > ey ? Y : ey;
+                span[2 * j] = i < span[2 * j] ? i : span[2 * j];
+                span[2 * j + 1] = i;
+            }
+    }
+    st = paint(p, sc, n, stamp, s, span, ex, ey, ph_height, ph_trans, pw, ph, err);
+    sq__ffree(stamp);
+    free(span);
+    free(sc);
+    if (st == SQ_OK && half && sq__resample(ph_height, pw, ph, height, w, h) != 0)
+        st = sq_error_set(err, SQ_ERR_NOMEM, "scales", "out of memory for the scales");
+    return st;
+}
