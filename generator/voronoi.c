@@ -9,8 +9,9 @@
  * proportions for any X and Y. Landreneau's anisotropy makes every site a line segment
  * along the body (v) of half-length alpha = Scales_VoronoiAnisotropy: a point's
  * distance to a site is its distance to the nearest point of that segment,
- * sqrt(du^2 + max(0, |dv| - alpha)^2), which stretches the cells along the body and
- * turns hexagons towards rhombi, as in his Figure 17. Everything wraps in u and v.
+ * sqrt(du^2 + max(0, |dv| - alpha)^2) (plus TIE dv^2, below), which stretches the
+ * cells along the body and turns hexagons towards rhombi, as in his Figure 17.
+ * Everything wraps in u and v.
  *
  * Sites. The X * Y sites start on a staggered grid (odd rows half a column over),
  * jittered by up to JITTER of a column and a row from the preset's Seed. The lateral
@@ -22,10 +23,11 @@
  * v, unjittered and held fixed by the relaxation. It is straight along v, so the
  * orientation field he smooths from it is v everywhere: sites need no orientation.
  *
- * Relaxation. Lloyd's algorithm on a raster of RASTER samples per spacing (a property of
- * the parameters, never of the texture size: a preset looks the same at any size):
- * every sample finds its nearest site through a bucket grid of about one site per
- * bucket, then every free site moves to its cell's centroid. Sums run in raster order,
+ * Relaxation. Lloyd's algorithm on a raster of RELAX samples per spacing each way (a
+ * property of the parameters, never of the texture size: a preset looks the same at any
+ * size): every sample finds its nearest site through a bucket grid of about one site per
+ * bucket, then every free site moves to its cell's centroid. The cells the scales are
+ * fitted to come from a last, finer raster (FINE per spacing). Sums run in raster order,
  * so the result is the same on any thread count.
  *
  * Scales. Each cell gets one stamp, upright along the body (plus
@@ -46,13 +48,23 @@
 
 #include "gen_internal.h"
 
-enum { RASTER = 6, MAX_SAMPLES = 1 << 20 };
+enum { RELAX = 4, FINE = 8, MAX_SAMPLES = 1 << 20 };
 static const double JITTER = 0.35;  /* of a column and of a row */
 static const double COVER = 1.04;   /* lens margin over the cell, for the stamp's soft edge */
+/* Where segments overlap (sites one above the other, closer than 2 alpha) the segment
+ * distance ties at 0 and a site could lose its whole cell; a small share of the
+ * distance along v to the site's centre splits such ties by the nearer centre. */
+static const double TIE = 0.05;
 
 static double wrapd(double d, double D) /* into [-D/2, D/2) */
 {
     return d - D * floor(d / D + 0.5);
+}
+
+/* wrapd for |d| < 1.5 D, without floor(): the inner loop of the nearest-site search */
+static inline double wrap_near(double d, double D)
+{
+    return d >= 0.5 * D ? d - D : (d < -0.5 * D ? d + D : d);
 }
 
 static double wrap01(double x, double D) /* into [0, D) */
@@ -125,10 +137,11 @@ static int nearest(const Space *S, double U, double V)
             const int c = rowb + sq__wrap(ju, S->nbu);
             for (int i = S->start[c]; i < S->start[c + 1]; i++) {
                 const int k = S->list[i];
-                const double du = wrapd(U - S->U[k], S->DU);
-                double dv = fabs(wrapd(V - S->V[k], S->DV)) - S->a;
+                const double du = wrap_near(U - S->U[k], S->DU);
+                const double dc = wrap_near(V - S->V[k], S->DV);
+                double dv = fabs(dc) - S->a;
                 dv = dv > 0 ? dv : 0;
-                const double d = du * du + dv * dv;
+                const double d = du * du + dv * dv + TIE * dc * dc;
                 if (d < bd || (d == bd && k < best)) {
                     bd = d;
                     best = k;
@@ -149,22 +162,30 @@ static void assign(const Space *S, int rw, int rh, int *owner)
     }
 }
 
+/* A raster of about k samples per spacing each way, at most MAX_SAMPLES in all. */
+static void raster_size(const Space *S, double k, int *rw, int *rh)
+{
+    if (S->DU * S->DV * k * k > MAX_SAMPLES)
+        k = sqrt(MAX_SAMPLES / (S->DU * S->DV));
+    *rw = (int)ceil(S->DU * k) > 8 ? (int)ceil(S->DU * k) : 8;
+    *rh = (int)ceil(S->DV * k) > 8 ? (int)ceil(S->DV * k) : 8;
+}
+
 SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err)
 {
     memset(vo, 0, sizeof *vo);
     const int X = p->Scales_XAmount, Y = p->Scales_YAmount, n = X * Y;
     Space S = {.DU = X * M_SQRT2, .DV = Y / M_SQRT2, .a = p->Scales_VoronoiAnisotropy, .n = n};
-    double k = RASTER;
-    if (S.DU * S.DV * k * k > MAX_SAMPLES)
-        k = sqrt(MAX_SAMPLES / (S.DU * S.DV));
-    const int rw = (int)ceil(S.DU * k) > 8 ? (int)ceil(S.DU * k) : 8;
-    const int rh = (int)ceil(S.DV * k) > 8 ? (int)ceil(S.DV * k) : 8;
+    int rw, rh, qw, qh; /* the final raster and the relaxation's */
+    raster_size(&S, FINE, &rw, &rh);
+    raster_size(&S, RELAX, &qw, &qh);
     S.nbu = S.DU >= 2 ? (int)S.DU : 1;
     S.nbv = S.DV >= 2 ? (int)S.DV : 1;
-    /* a sample's nearest site is within a spacing or so (the sites stay spread out), so
-     * two buckets either way hold it, plus the segment's reach along v */
-    S.ku = 2;
-    S.kv = 2 + (int)ceil(S.a / (S.DV / S.nbv));
+    /* a sample's nearest site is less than a spacing away (the jittered grid and its
+     * relaxations leave no wider holes) and a bucket is at least a spacing wide, so one
+     * bucket either way holds it, plus the segment's reach along v */
+    S.ku = 1;
+    S.kv = 1 + (int)ceil(S.a / (S.DV / S.nbv));
     const int nb = S.nbu * S.nbv;
     const size_t ns = (size_t)rw * rh;
     S.U = malloc(sizeof(double) * (size_t)n);
@@ -180,7 +201,7 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     vo->u = malloc(sizeof(double) * (size_t)n);
     vo->v = malloc(sizeof(double) * (size_t)n);
     vo->fixed = calloc((size_t)n, 1);
-    vo->owner = malloc(sizeof(int) * ns);
+    vo->owner = malloc(sizeof(int) * (ns > (size_t)qw * qh ? ns : (size_t)qw * qh));
     vo->area = malloc(sizeof(int) * (size_t)n);
     vo->cu = malloc(sizeof(double) * (size_t)n);
     vo->cv = malloc(sizeof(double) * (size_t)n);
@@ -219,18 +240,16 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
         vo->fixed[s] = 1;
     }
 
-    for (int it = 0; it <= iterations; it++) {
+    for (int it = 0; it < iterations; it++) {
         bucket_sites(&S);
-        assign(&S, rw, rh, vo->owner);
-        if (it == iterations)
-            break;
+        assign(&S, qw, qh, vo->owner);
         memset(sum, 0, sizeof(double) * 2 * (size_t)n);
         memset(vo->area, 0, sizeof(int) * (size_t)n);
-        for (int y = 0; y < rh; y++) {
-            const double V = (y + 0.5) / rh * S.DV;
-            for (int x = 0; x < rw; x++) {
-                const int o = vo->owner[(size_t)y * rw + x];
-                sum[2 * o] += wrapd((x + 0.5) / rw * S.DU - S.U[o], S.DU);
+        for (int y = 0; y < qh; y++) {
+            const double V = (y + 0.5) / qh * S.DV;
+            for (int x = 0; x < qw; x++) {
+                const int o = vo->owner[(size_t)y * qw + x];
+                sum[2 * o] += wrapd((x + 0.5) / qw * S.DU - S.U[o], S.DU);
                 sum[2 * o + 1] += wrapd(V - S.V[o], S.DV);
                 vo->area[o]++;
             }
@@ -241,6 +260,9 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
                 S.V[s] = wrap01(S.V[s] + sum[2 * s + 1] / vo->area[s], S.DV);
             }
     }
+
+    bucket_sites(&S);
+    assign(&S, rw, rh, vo->owner);
 
     /* the cells: area, centroid and bounding box, in texture units */
     for (int s = 0; s < n; s++) {
@@ -306,6 +328,7 @@ typedef struct Scale {
     double th;           /* rotation, radians */
     int role;            /* belly role as in scales.c: 0 lateral, 1/2/3 last lateral, -1 none */
     int row;             /* starting row (the belly's wobble phase) */
+    double sv, shv;      /* ventral stretch: centre offset and half-height at the seam */
 } Scale;
 
 typedef struct Inst {
@@ -375,6 +398,8 @@ static Scale *make_scales(const SqParams *p, const SqVoronoi *vo)
         sc[s].th = rot_max * sq__rand11(seed, SQ_STREAM_SCALES, id + 3);
         sc[s].row = s / X;
         sc[s].role = 0;
+        sc[s].sv = 0;
+        sc[s].shv = sc[s].hv;
     }
     free(lam);
 
@@ -395,12 +420,23 @@ static Scale *make_scales(const SqParams *p, const SqVoronoi *vo)
                     right = c;
                 }
             }
-            const double fl = sc[j * X + left].u, fr = sc[j * X + right].u;
+            Scale *L = &sc[j * X + left], *R = &sc[j * X + right];
+            const double fl = L->u, fr = R->u;
             for (int c = 0; c < X; c++) {
                 Scale *e = &sc[j * X + c];
                 e->role = (c == left ? 1 : 0) | (c == right ? 2 : 0);
                 if (!e->role && (e->u < fl || e->u > fr))
                     e->role = -1;
+            }
+            /* The two stretches of a row meet at the seam: each bends (linearly in u, from
+             * its scale's centre) to the row's place on the starting grid and the mean
+             * size of the two, so the ventral scale is whole across the seam and the
+             * ventral scales are evenly spaced along the belly, as a snake's are. */
+            if (left != right) {
+                const double vj = (j + 0.5) / Y, mh = (L->hv + R->hv) / 2;
+                L->sv = wrapd(vj - L->v, 1);
+                R->sv = wrapd(vj - R->v, 1);
+                L->shv = R->shv = mh;
             }
         }
     return sc;
@@ -427,6 +463,10 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
         double rx = ex * sc[k].hu * w / SQ__LENS_HW, ry = ey * sc[k].hv * h / SQ__LENS_HH;
         if (sc[k].th != 0)
             rx = ry = sqrt(rx * rx + ry * ry);
+        if (sc[k].role > 0) { /* the stretch bends towards the seam */
+            const double rs = ey * sc[k].shv * h / SQ__LENS_HH + fabs(sc[k].sv) * h;
+            ry = rs > ry ? rs : ry;
+        }
         ext[2 * k] = rx;
         ext[2 * k + 1] = ry;
         if (sc[k].role < 0)
@@ -501,7 +541,7 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                 const float dy0 = (float)(y + 0.5 - cy);
                 const float belly_v = belly_amp > 0 ? (float)sin(2 * M_PI * (y + 0.5) / h * 3 + e->row) : 0.0f;
                 int xa = sx0, xb = sx1;
-                if (e->th == 0) { /* only the columns where this stamp row has content */
+                if (e->th == 0 && !role) { /* only the columns where this stamp row has content */
                     float fyr = (dy0 * iay + 1) * half_s - 0.5f;
                     int r0 = (int)fyr, r1 = r0 + 1;
                     if (fyr < 0 || r1 >= s)
@@ -526,12 +566,17 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                     if (tr[x] <= 0.0f)
                         continue;
                     float dx = (float)(x + 0.5 - cx), dy = dy0;
+                    float iy = iay;
                     if (((role & 1) && dx < 0) || ((role & 2) && dx > 0)) {
-                        /* the ventral scale: this scale's centre column, stretched */
+                        /* the ventral scale: this scale's centre column, stretched and
+                         * bent to meet the row's other stretch at the seam */
+                        const float t = dx < 0 ? dx / (float)(tile - cx) : dx / (float)(tile + w - cx);
+                        dy -= t * (float)(e->sv * h);
+                        iy = (float)(SQ__LENS_HH / ((e->hv + t * (e->shv - e->hv)) * h));
                         dx = 0;
                         dy += wob[x] * belly_v;
                     }
-                    float Xs = (dx * cs + dy * sn) * iax, Ys = (-dx * sn + dy * cs) * iay;
+                    float Xs = (dx * cs + dy * sn) * iax, Ys = (-dx * sn + dy * cs) * iy;
                     if (Xs <= -1 || Xs >= 1 || Ys <= -1 || Ys >= 1)
                         continue;
                     float fx = (Xs + 1) * half_s - 0.5f, fy = (Ys + 1) * half_s - 0.5f;
