@@ -48,13 +48,16 @@
 
 #include "gen_internal.h"
 
-enum { RELAX = 4, FINE = 8, MAX_SAMPLES = 1 << 20 };
+enum { RELAX = 3, FINE = 6, MAX_SAMPLES = 1 << 20 };
 static const double JITTER = 0.35;  /* of a column and of a row */
 static const double COVER = 1.04;   /* lens margin over the cell, for the stamp's soft edge */
 /* Where segments overlap (sites one above the other, closer than 2 alpha) the segment
  * distance ties at 0 and a site could lose its whole cell; a small share of the
  * distance along v to the site's centre splits such ties by the nearer centre. */
 static const double TIE = 0.05;
+/* A ventral stretch bends to its row's place over the first 1 / BEND of its length and
+ * runs straight from there to the seam. */
+static const float BEND = 3.0f;
 
 static double wrapd(double d, double D) /* into [-D/2, D/2) */
 {
@@ -97,68 +100,112 @@ typedef struct Space {
     int n, nbu, nbv, ku, kv;
     double *U, *V;
     int *start, *list; /* buckets: sites of bucket b are list[start[b] .. start[b + 1]) */
+    /* per bucket, the sites a sample in it may be nearest to, with their coordinates
+     * packed beside them: cand[cstart[b] .. cstart[b + 1]) */
+    int *cstart, *cand;
+    double *cuv;
 } Space;
 
-static int bucket_of(const Space *S, double U, double V)
+static int bucket_u(const Space *S, double U)
 {
-    int bu = (int)(U / S->DU * S->nbu), bv = (int)(V / S->DV * S->nbv);
-    bu = bu < 0 ? 0 : (bu >= S->nbu ? S->nbu - 1 : bu);
-    bv = bv < 0 ? 0 : (bv >= S->nbv ? S->nbv - 1 : bv);
-    return bv * S->nbu + bu;
+    int b = (int)(U / S->DU * S->nbu);
+    return b < 0 ? 0 : (b >= S->nbu ? S->nbu - 1 : b);
 }
 
-/* Counting sort of the sites into buckets, in site order. */
+static int bucket_v(const Space *S, double V)
+{
+    int b = (int)(V / S->DV * S->nbv);
+    return b < 0 ? 0 : (b >= S->nbv ? S->nbv - 1 : b);
+}
+
+/* Buckets one way around bucket i (of n): lo..hi, wrapped; all of them, once, when the
+ * window covers the axis. */
+static void window(int i, int k, int n, int *lo, int *hi)
+{
+    if (2 * k + 1 >= n) {
+        *lo = 0;
+        *hi = n - 1;
+    } else {
+        *lo = i - k;
+        *hi = i + k;
+    }
+}
+
+/* Counting sort of the sites into buckets, in site order, then every bucket's
+ * candidates (the sites of the buckets around it, in window order). */
 static void bucket_sites(Space *S)
 {
     const int nb = S->nbu * S->nbv;
     memset(S->start, 0, sizeof(int) * (size_t)(nb + 1));
     for (int k = 0; k < S->n; k++)
-        S->start[bucket_of(S, S->U[k], S->V[k]) + 1]++;
+        S->start[bucket_v(S, S->V[k]) * S->nbu + bucket_u(S, S->U[k]) + 1]++;
     for (int b = 0; b < nb; b++)
         S->start[b + 1] += S->start[b];
     int *fill = S->start + nb + 1; /* nb more ints of room */
     memcpy(fill, S->start, sizeof(int) * (size_t)nb);
     for (int k = 0; k < S->n; k++)
-        S->list[fill[bucket_of(S, S->U[k], S->V[k])]++] = k;
+        S->list[fill[bucket_v(S, S->V[k]) * S->nbu + bucket_u(S, S->U[k])]++] = k;
+    int m = 0;
+    for (int bv = 0; bv < S->nbv; bv++)
+        for (int bu = 0; bu < S->nbu; bu++) {
+            int u0, u1, v0, v1;
+            window(bu, S->ku, S->nbu, &u0, &u1);
+            window(bv, S->kv, S->nbv, &v0, &v1);
+            S->cstart[bv * S->nbu + bu] = m;
+            for (int jv = v0; jv <= v1; jv++)
+                for (int ju = u0; ju <= u1; ju++) {
+                    const int c = sq__wrap(jv, S->nbv) * S->nbu + sq__wrap(ju, S->nbu);
+                    for (int i = S->start[c]; i < S->start[c + 1]; i++) {
+                        const int k = S->list[i];
+                        S->cand[m] = k;
+                        S->cuv[2 * m] = S->U[k];
+                        S->cuv[2 * m + 1] = S->V[k];
+                        m++;
+                    }
+                }
+        }
+    S->cstart[nb] = m;
 }
 
-/* The nearest site to (U, V) by the segment distance; ties to the lower index. */
-static int nearest(const Space *S, double U, double V)
+/* The nearest site to (U, V), a sample of bucket b, by the segment distance; ties to
+ * the lower index. */
+static int nearest(const Space *S, int b, double U, double V)
 {
-    const int b = bucket_of(S, U, V), bu = b % S->nbu, bv = b / S->nbu;
-    const int all_u = 2 * S->ku + 1 >= S->nbu, all_v = 2 * S->kv + 1 >= S->nbv;
-    const int u0 = all_u ? 0 : bu - S->ku, u1 = all_u ? S->nbu - 1 : bu + S->ku;
-    const int v0 = all_v ? 0 : bv - S->kv, v1 = all_v ? S->nbv - 1 : bv + S->kv;
     int best = -1;
     double bd = INFINITY;
-    for (int jv = v0; jv <= v1; jv++) {
-        const int rowb = sq__wrap(jv, S->nbv) * S->nbu;
-        for (int ju = u0; ju <= u1; ju++) {
-            const int c = rowb + sq__wrap(ju, S->nbu);
-            for (int i = S->start[c]; i < S->start[c + 1]; i++) {
-                const int k = S->list[i];
-                const double du = wrap_near(U - S->U[k], S->DU);
-                const double dc = wrap_near(V - S->V[k], S->DV);
-                double dv = fabs(dc) - S->a;
-                dv = dv > 0 ? dv : 0;
-                const double d = du * du + dv * dv + TIE * dc * dc;
-                if (d < bd || (d == bd && k < best)) {
-                    bd = d;
-                    best = k;
-                }
-            }
+    const double DU = S->DU, DV = S->DV, a = S->a;
+    const double *cuv = S->cuv;
+    const int *cand = S->cand;
+    /* |offsets| wrapped as min(d, D - d): no branches in the distance */
+    for (int i = S->cstart[b], e = S->cstart[b + 1]; i < e; i++) {
+        double du = fabs(U - cuv[2 * i]), dc = fabs(V - cuv[2 * i + 1]);
+        du = du < DU - du ? du : DU - du;
+        dc = dc < DV - dc ? dc : DV - dc;
+        double dv = dc - a;
+        dv = dv > 0 ? dv : 0;
+        const double d = du * du + dv * dv + TIE * dc * dc;
+        if (d <= bd && (d < bd || cand[i] < best)) {
+            bd = d;
+            best = cand[i];
         }
     }
     return best;
 }
 
+/* Rasters of a usual scale count take a few milliseconds: threads only for large ones,
+ * where they pay for waking up (and for being descheduled on a busy machine). */
+enum { PARALLEL_SAMPLES = 1 << 16 };
+
 static void assign(const Space *S, int rw, int rh, int *owner)
 {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if ((size_t)rw * rh >= PARALLEL_SAMPLES)
     for (int y = 0; y < rh; y++) {
         const double V = (y + 0.5) / rh * S->DV;
-        for (int x = 0; x < rw; x++)
-            owner[(size_t)y * rw + x] = nearest(S, (x + 0.5) / rw * S->DU, V);
+        const int bv = bucket_v(S, V) * S->nbu;
+        for (int x = 0; x < rw; x++) {
+            const double U = (x + 0.5) / rw * S->DU;
+            owner[(size_t)y * rw + x] = nearest(S, bv + bucket_u(S, U), U, V);
+        }
     }
 }
 
@@ -192,6 +239,12 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     S.V = malloc(sizeof(double) * (size_t)n);
     S.start = malloc(sizeof(int) * (size_t)(2 * nb + 1));
     S.list = malloc(sizeof(int) * (size_t)n);
+    /* every site is a candidate of the buckets of its window */
+    const size_t nc = (size_t)n * (size_t)(2 * S.ku + 1 < S.nbu ? 2 * S.ku + 1 : S.nbu) *
+                      (size_t)(2 * S.kv + 1 < S.nbv ? 2 * S.kv + 1 : S.nbv);
+    S.cstart = malloc(sizeof(int) * (size_t)(nb + 1));
+    S.cand = malloc(sizeof(int) * nc);
+    S.cuv = malloc(sizeof(double) * 2 * nc);
     double *sum = malloc(sizeof(double) * 4 * (size_t)n); /* du, dv and, for the box, ranges */
     vo->n = n;
     vo->X = X;
@@ -209,13 +262,16 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     vo->bu1 = malloc(sizeof(double) * (size_t)n);
     vo->bv0 = malloc(sizeof(double) * (size_t)n);
     vo->bv1 = malloc(sizeof(double) * (size_t)n);
-    if (!S.U || !S.V || !S.start || !S.list || !sum || !vo->u || !vo->v || !vo->fixed ||
+    if (!S.U || !S.V || !S.start || !S.list || !S.cstart || !S.cand || !S.cuv || !sum || !vo->u || !vo->v || !vo->fixed ||
         !vo->owner || !vo->area || !vo->cu || !vo->cv || !vo->bu0 || !vo->bu1 || !vo->bv0 ||
         !vo->bv1) {
         free(S.U);
         free(S.V);
         free(S.start);
         free(S.list);
+        free(S.cstart);
+        free(S.cand);
+        free(S.cuv);
         free(sum);
         sq__voronoi_free(vo);
         return sq_error_set(err, SQ_ERR_NOMEM, "Scales_Layout",
@@ -249,8 +305,8 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
             const double V = (y + 0.5) / qh * S.DV;
             for (int x = 0; x < qw; x++) {
                 const int o = vo->owner[(size_t)y * qw + x];
-                sum[2 * o] += wrapd((x + 0.5) / qw * S.DU - S.U[o], S.DU);
-                sum[2 * o + 1] += wrapd(V - S.V[o], S.DV);
+                sum[2 * o] += wrap_near((x + 0.5) / qw * S.DU - S.U[o], S.DU);
+                sum[2 * o + 1] += wrap_near(V - S.V[o], S.DV);
                 vo->area[o]++;
             }
         }
@@ -275,8 +331,8 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
         const double V = (y + 0.5) / rh * S.DV;
         for (int x = 0; x < rw; x++) {
             const int o = vo->owner[(size_t)y * rw + x];
-            const double du = wrapd((x + 0.5) / rw * S.DU - S.U[o], S.DU) / S.DU;
-            const double dv = wrapd(V - S.V[o], S.DV) / S.DV;
+            const double du = wrap_near((x + 0.5) / rw * S.DU - S.U[o], S.DU) / S.DU;
+            const double dv = wrap_near(V - S.V[o], S.DV) / S.DV;
             sum[4 * o] += du;
             sum[4 * o + 1] += dv;
             vo->area[o]++;
@@ -302,6 +358,9 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     free(S.V);
     free(S.start);
     free(S.list);
+    free(S.cstart);
+    free(S.cand);
+    free(S.cuv);
     free(sum);
     return SQ_OK;
 }
@@ -380,8 +439,8 @@ static Scale *make_scales(const SqParams *p, const SqVoronoi *vo)
     for (int y = 0; y < vo->rh; y++)
         for (int x = 0; x < vo->rw; x++) {
             const int o = vo->owner[(size_t)y * vo->rw + x];
-            const double du = fabs(wrapd((x + 0.5) / vo->rw - sc[o].u, 1)) + hsu;
-            const double dv = fabs(wrapd((y + 0.5) / vo->rh - sc[o].v, 1)) + hsv;
+            const double du = fabs(wrap_near((x + 0.5) / vo->rw - sc[o].u, 1)) + hsu;
+            const double dv = fabs(wrap_near((y + 0.5) / vo->rh - sc[o].v, 1)) + hsv;
             const double l = lens_reach(du / sc[o].hu * SQ__LENS_HW, dv / sc[o].hv * SQ__LENS_HH);
             lam[o] = l > lam[o] ? l : lam[o];
         }
@@ -428,12 +487,13 @@ static Scale *make_scales(const SqParams *p, const SqVoronoi *vo)
                 if (!e->role && (e->u < fl || e->u > fr))
                     e->role = -1;
             }
-            /* The two stretches of a row meet at the seam: each bends (linearly in u, from
-             * its scale's centre) to the row's place on the starting grid and the mean
-             * size of the two, so the ventral scale is whole across the seam and the
-             * ventral scales are evenly spaced along the belly, as a snake's are. */
+            /* The two stretches of a row meet at the seam: each bends (from its scale's
+             * centre, over a third of the way) to the row's place and the grid layout's
+             * scale height, so the ventral scale is whole across the seam and the ventral
+             * scales are even along the belly, as a snake's are, whatever the cells. */
             if (left != right) {
-                const double vj = (j + 0.5) / Y, mh = (L->hv + R->hv) / 2;
+                const double vj = (j + 0.5) / Y;
+                const double mh = p->Scales_ScaleSize * p->Scales_ScaleSizeXY[1] / (2.0 * Y);
                 L->sv = wrapd(vj - L->v, 1);
                 R->sv = wrapd(vj - R->v, 1);
                 L->shv = R->shv = mh;
@@ -536,16 +596,25 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
             const float cs = (float)cos(e->th), sn = (float)sin(e->th);
             const float iax = (float)(SQ__LENS_HW / (e->hu * w)), iay = (float)(SQ__LENS_HH / (e->hv * h));
             const float half_s = 0.5f * (float)s;
+            /* the stretch: 0 at the centre, 1 from 1 / BEND of the way to the tile's edge */
+            const float inv_l = (float)(1.0 / (tile - cx)), inv_r = (float)(1.0 / (tile + w - cx));
+            const float sv_px = (float)(e->sv * h), iay_seam = (float)(SQ__LENS_HH / (e->shv * h));
             for (int y = sy0; y < sy1; y++) {
                 float *row = height + (size_t)y * w, *tr = trans + (size_t)y * w;
                 const float dy0 = (float)(y + 0.5 - cy);
                 const float belly_v = belly_amp > 0 ? (float)sin(2 * M_PI * (y + 0.5) / h * 3 + e->row) : 0.0f;
                 int xa = sx0, xb = sx1;
-                if (e->th == 0 && !role) { /* only the columns where this stamp row has content */
-                    float fyr = (dy0 * iay + 1) * half_s - 0.5f;
-                    int r0 = (int)fyr, r1 = r0 + 1;
-                    if (fyr < 0 || r1 >= s)
+                /* only the columns where this stamp row has content, and the stretch */
+                const float fyr = (dy0 * iay + 1) * half_s - 0.5f;
+                if (e->th == 0 && (fyr < 0 || (int)fyr + 1 >= s)) {
+                    if (!role)
                         continue;
+                    if (role == 1)
+                        xb = (int)ceil(cx);
+                    if (role == 2)
+                        xa = (int)floor(cx);
+                } else if (e->th == 0) {
+                    int r0 = (int)fyr, r1 = r0 + 1;
                     int clo = span[2 * r0] < span[2 * r1] ? span[2 * r0] : span[2 * r1];
                     int chi = span[2 * r0 + 1] > span[2 * r1 + 1] ? span[2 * r0 + 1] : span[2 * r1 + 1];
                     if (clo > chi && !role)
@@ -559,9 +628,9 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                         if (role & 1) xb = (int)ceil(cx);
                         if (role & 2) xa = (int)floor(cx);
                     }
-                    if (xa < sx0) xa = sx0;
-                    if (xb > sx1) xb = sx1;
                 }
+                if (xa < sx0) xa = sx0;
+                if (xb > sx1) xb = sx1;
                 for (int x = xa; x < xb; x++) {
                     if (tr[x] <= 0.0f)
                         continue;
@@ -570,9 +639,10 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                     if (((role & 1) && dx < 0) || ((role & 2) && dx > 0)) {
                         /* the ventral scale: this scale's centre column, stretched and
                          * bent to meet the row's other stretch at the seam */
-                        const float t = dx < 0 ? dx / (float)(tile - cx) : dx / (float)(tile + w - cx);
-                        dy -= t * (float)(e->sv * h);
-                        iy = (float)(SQ__LENS_HH / ((e->hv + t * (e->shv - e->hv)) * h));
+                        float t = dx * (dx < 0 ? inv_l : inv_r) * BEND;
+                        t = t < 1.0f ? t : 1.0f;
+                        dy -= t * sv_px;
+                        iy = iay + t * (iay_seam - iay);
                         dx = 0;
                         dy += wob[x] * belly_v;
                     }

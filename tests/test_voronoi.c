@@ -192,40 +192,45 @@ static double row_diff(const SqImage *m, int a, int b)
     return s / m->width;
 }
 
-/* The step across the tile's edge against the mean step between neighbours inside. */
-static void assert_seamless(const SqImage *m, const char *what)
+/* The step across the tile's edge against the steps between neighbours inside: no more
+ * than 1.5 times their mean; along v with the belly (whose ventral scales' straight edges
+ * run across it and may fall on the edge) no more than the largest of them. */
+static void assert_seamless(const SqImage *m, const char *what, int belly)
 {
     const int w = m->width, h = m->height;
-    double iu = 0, iv = 0;
+    double iu = 0, iv = 0, mv = 0;
     for (int x = 0; x + 1 < w; x++)
         iu += col_diff(m, x, x + 1);
-    for (int y = 0; y + 1 < h; y++)
-        iv += row_diff(m, y, y + 1);
+    for (int y = 0; y + 1 < h; y++) {
+        double d = row_diff(m, y, y + 1);
+        iv += d;
+        mv = d > mv ? d : mv;
+    }
     iu /= w - 1;
     iv /= h - 1;
     double su = col_diff(m, w - 1, 0), sv = row_diff(m, h - 1, 0);
     if (su > 1.5 * iu + 1e-4)
-        fail_msg("%s: u seam step %.4f, inside %.4f", what, su, iu);
-    if (sv > 1.5 * iv + 1e-4)
-        fail_msg("%s: v seam step %.4f, inside %.4f", what, sv, iv);
+        fail_msg("%s: u seam step %.4f, inside mean %.4f", what, su, iu);
+    if (sv > (belly ? mv : 1.5 * iv) + 1e-4)
+        fail_msg("%s: v seam step %.4f, inside mean %.4f, max %.4f", what, sv, iv, mv);
 }
 
 static void height_map_tiles(void **state)
 {
     (void)state;
     for (int belly = 0; belly < 2; belly++)
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < 3; a++) {
             SqParams p;
             voronoi_params(&p);
-            p.Scales_VoronoiAnisotropy = a ? 1.2 : 0.3;
+            p.Scales_VoronoiAnisotropy = 0.3 + 0.9 * a;
             p.Scales_BellyScalesPct = belly ? 0.15 : 0;
             p.Scales_XAmount = 13;
             p.Scales_YAmount = 27;
             p.Seed = 3 + a;
             SqTextures t;
             render(&p, 256, 0, &t);
-            assert_seamless(&t.height, belly ? "height (belly)" : "height");
-            assert_seamless(&t.roughness, "roughness");
+            assert_seamless(&t.height, belly ? "height (belly)" : "height", belly);
+            assert_seamless(&t.roughness, "roughness", 0);
             sq_gen_textures_free(&t);
         }
 }
