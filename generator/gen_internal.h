@@ -284,7 +284,7 @@ typedef struct SqVoronoi {
     double *bu0, *bu1, *bv0, *bv1; /* n: cell bounding box relative to its site, texture units */
 } SqVoronoi;
 
-enum { SQ_VORONOI_ITERATIONS = 8 };
+enum { SQ_VORONOI_ITERATIONS = 5 };
 
 /* Builds the tessellation with `iterations` Lloyd steps (0: the jittered grid as is). */
 SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err);
