@@ -5,7 +5,9 @@
  * usage: bench_generator [PRESET] [--sizes 256,512,...] [--runs N]
  * Renders reuse their output maps (sq_gen_render_into), as a fit or batch does; the
  * first, cold render of each size (fresh memory: allocation and page faults) is shown
- * apart. Ends with: RESULT generator ms_<size>=... ratio_<size>=... ns_px_<size>=... gbs=... */
+ * apart. A last row renders the same preset with Scales_Layout voronoi at 1024^2.
+ * Ends with: RESULT generator ms_<size>=... ratio_<size>=... ns_px_<size>=...
+ * voronoi_ms_1024=... voronoi_ratio_1024=... gbs=... */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +32,37 @@ static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return x < y ? -1 : x > y;
+}
+
+/* Median of `n` warm renders at `size` (after one cold one); the median run's stages. */
+static int median_ms(const SqParams *p, int size, int n, double *med, SqGenTimings *stages)
+{
+    double t[32], sorted[32];
+    SqGenTimings st[32];
+    SqGenOptions o = sq_gen_options_default(size);
+    SqTextures tex = {0};
+    SqError err;
+    n = n < 1 ? 1 : (n > 31 ? 31 : n);
+    for (int r = 0; r <= n; r++) {
+        o.timings = &st[r > 0 ? r - 1 : 0];
+        double t0 = now_ms();
+        if (sq_gen_render_into(p, &o, &tex, &err) != SQ_OK) {
+            fprintf(stderr, "bench: %s (%s)\n", err.what, err.where);
+            sq_gen_textures_free(&tex);
+            return -1;
+        }
+        if (r > 0)
+            t[r - 1] = now_ms() - t0;
+    }
+    sq_gen_textures_free(&tex);
+    memcpy(sorted, t, sizeof(double) * (size_t)n);
+    qsort(sorted, (size_t)n, sizeof sorted[0], cmp_double);
+    *med = sorted[n / 2];
+    *stages = st[0];
+    for (int r = 0; r < n; r++)
+        if (t[r] == *med)
+            *stages = st[r];
+    return 0;
 }
 
 /* Write bandwidth (GB/s) of all threads filling a 256 MiB buffer: the floor of any
@@ -138,6 +171,19 @@ int main(int argc, char **argv)
         rn += snprintf(result + rn, sizeof result - (size_t)rn, " ns_px_%d=%.2f bwx_%d=%.1f cold_%d=%.1f",
                        size, nspx, size, med / floor_ms, size, cold);
     }
+    /* the Voronoi layout of the same preset (its relaxation and painting are in "scales") */
+    SqParams pv = p;
+    pv.Scales_Layout = SQ_LAYOUT_VORONOI;
+    double vmed;
+    SqGenTimings vst;
+    if (median_ms(&pv, 1024, runs ? runs : 11, &vmed, &vst) != 0)
+        return 1;
+    printf("%6s %10.2f %10.2f %8.2f %9.2f %10s %9s   (scales %.1f, detail %.1f, normal %.1f, "
+           "pattern %.1f, colour %.1f)\n",
+           "vor1024", vmed, 82.73, 82.73 / vmed, vmed * 1e6 / (1024.0 * 1024.0), "", "", vst.scales,
+           vst.detail, vst.normal, vst.pattern, vst.color);
+    rn += snprintf(result + rn, sizeof result - (size_t)rn, " voronoi_ms_1024=%.2f voronoi_ratio_1024=%.2f",
+                   vmed, 82.73 / vmed);
     printf("%s gbs=%.1f threads=%d\n", result, gbs, threads);
     return 0;
 }

@@ -49,7 +49,8 @@ enum {
     SQ_STREAM_KEEL,
     SQ_STREAM_BELLY,
     SQ_STREAM_RD,
-    SQ_STREAM_RD2
+    SQ_STREAM_RD2,
+    SQ_STREAM_VORONOI
 };
 
 /* ---- small helpers ---- */
@@ -320,6 +321,47 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
 /* The single scale (§4.3.1) as an s x s image of height (channel 0) and coverage
  * (channel 1), interleaved. Returns -1 when out of memory. */
 int sq__scale_stamp(const SqParams *p, float *stamp, int s);
+
+/* The lens inside the stamp, in stamp units ([-1, 1] square): cones of radius
+ * SQ__CONE_R centred at +-SQ__CONE_D intersect in a lens SQ__LENS_HW wide (half) and
+ * SQ__LENS_HH tall (half), before Scales_Expansion grows it. */
+#define SQ__CONE_R 0.75
+#define SQ__CONE_D 0.375
+#define SQ__LENS_HW (SQ__CONE_R - SQ__CONE_D)
+#define SQ__LENS_HH 0.649519052838329 /* sqrt(R^2 - D^2) */
+
+/* ---- the Voronoi scale layout (voronoi.c) ---- */
+
+/* An anisotropic centroidal Voronoi tessellation of the periodic texture (Landreneau
+ * 2011, Chapter V): Scales_XAmount x Scales_YAmount sites, each a line segment along v
+ * (the body) of half-length Scales_VoronoiAnisotropy spacings, relaxed by Lloyd's
+ * algorithm on a raster that depends only on the parameters (never on the texture
+ * size), the dorsal row (the "lateral line", u = 0.5) held fixed. Site k started in
+ * row k / X, column k % X of a staggered, jittered grid. */
+typedef struct SqVoronoi {
+    int n, X, Y;
+    double *u, *v;         /* n site centres, texture units in [0, 1) */
+    unsigned char *fixed;  /* n: 1 for the lateral line's sites */
+    int rw, rh;            /* the raster: rw x rh samples over the texture */
+    int *owner;            /* rw * rh: the cell of each sample */
+    int *area;             /* n: samples per cell */
+    double *cu, *cv;       /* n: cell centroids, texture units (unwrapped near the site) */
+    double *bu0, *bu1, *bv0, *bv1; /* n: cell bounding box relative to its site, texture units */
+} SqVoronoi;
+
+enum { SQ_VORONOI_ITERATIONS = 5 };
+
+/* Builds the tessellation with `iterations` Lloyd steps (0: the jittered grid as is). */
+SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err);
+void sq__voronoi_free(SqVoronoi *vo);
+
+/* The centroidal energy: mean squared distance (in scale spacings, isotropic) of the
+ * raster samples from their cell's centroid. Lloyd's steps lower it. */
+double sq__voronoi_energy(const SqVoronoi *vo);
+
+/* The height map of the Voronoi layout (sq__scales with Scales_Layout voronoi). */
+SqStatus sq__scales_voronoi(const SqParams *p, float *height, float *scratch, int w, int h,
+                            SqError *err);
 
 /* Normal map (3 channels) from a height map. */
 void sq__normals(const float *height, int w, int h, double intensity, int directx,

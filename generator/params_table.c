@@ -22,6 +22,7 @@ const char *const sq_pattern_type_names[] = {
 
 const char *const sq_rd_system_names[] = {"spots", "stripes", NULL};
 const char *const sq_rd_cascade_names[] = {"none", "spots", "rosettes", "stripes", NULL};
+const char *const sq_scales_layout_names[] = {"grid", "voronoi", NULL};
 
 /* Figure 4.9's example automaton: the default for Pattern_Type other_simple. */
 static const char ca_default[] =
@@ -325,6 +326,18 @@ static const SqParamSpec table[] = {
      .smax = 10, .group = "scales", .origin = SQ_ORIGIN_THESIS_D11,
      .ref = "D.11 \"Belly_warp_intensity\"",
      .help = "distortion of the stretched ventral scales"},
+    {.name = "Scales_Layout", .type = SQ_PT_ENUM, .offset = F(Scales_Layout),
+     .choices = sq_scales_layout_names, .def = {SQ_LAYOUT_GRID},
+     .min = 0, .max = SQ_LAYOUT_COUNT - 1, .smin = 0, .smax = SQ_LAYOUT_COUNT - 1,
+     .group = "scales", .origin = SQ_ORIGIN_SQUAMA, .ref = "Landreneau 2011, Ch. V",
+     .help = "grid: the thesis' staggered rows; voronoi: as many scales on a relaxed "
+             "Voronoi tessellation"},
+    {.name = "Scales_VoronoiAnisotropy", .type = SQ_PT_FLOAT,
+     .offset = F(Scales_VoronoiAnisotropy), .def = {0.5}, .min = 0, .max = 4, .smin = 0,
+     .smax = 1.5, .group = "scales", .origin = SQ_ORIGIN_SQUAMA,
+     .ref = "Landreneau 2011, Ch. V (alpha)",
+     .help = "voronoi layout: half-length of the sites' segments along v, in scale "
+             "spacings (0 round cells)"},
 
     /* ---- roughness and normal map ---- */
     {.name = "Scales_RoughnessMin", .type = SQ_PT_FLOAT, .offset = F(Scales_RoughnessMin),

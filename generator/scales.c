@@ -13,18 +13,19 @@
  * Ventral scales: in every row, the scale whose centre is nearest Scales_BellyScalesPct
  * of the width (and nearest 1 - that) is the last lateral scale; scales beyond it are
  * left out and its centre column is stretched to the seam, giving one wide ventral
- * scale per row across the belly. */
+ * scale per row across the belly.
+ *
+ * With Scales_Layout voronoi the scales sit on a relaxed Voronoi tessellation instead
+ * (voronoi.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gen_internal.h"
 
-/* The lens inside the stamp, in stamp units ([-1, 1] square): cones of radius R centred
- * at +-D intersect in a lens LW wide (half) and LH tall (half). */
-static const double CONE_R = 0.75, CONE_D = 0.375;
-#define LENS_HW (CONE_R - CONE_D)
-#define LENS_HH (0.649519052838329) /* sqrt(R^2 - D^2) */
+static const double CONE_R = SQ__CONE_R, CONE_D = SQ__CONE_D;
+#define LENS_HW SQ__LENS_HW
+#define LENS_HH SQ__LENS_HH
 
 int sq__scale_stamp(const SqParams *p, float *stamp, int s)
 {
@@ -151,6 +152,8 @@ static int belly_role(const Layout *L, int c, int j)
 
 SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int h, SqError *err)
 {
+    if (p->Scales_Layout == SQ_LAYOUT_VORONOI)
+        return sq__scales_voronoi(p, height, scratch, w, h, err);
     Layout L = {.X = p->Scales_XAmount, .Y = p->Scales_YAmount, .seed = (uint64_t)p->Seed, .p = p};
     L.shift = (double)(L.Y / 2) / L.Y;
     L.lens_w = p->Scales_ScaleSize * p->Scales_ScaleSizeXY[0];

@@ -12,7 +12,6 @@
 #ifndef SQUAMA_PARAMS_H
 #define SQUAMA_PARAMS_H
 
-
 #include <stddef.h>
 
 #include "ca.h"
@@ -46,6 +45,14 @@ typedef enum SqRdCascade {
     SQ_RD_CASCADE_STRIPES,  /* stripes between the frozen first features (giraffe, multi-width) */
     SQ_RD_CASCADE_COUNT
 } SqRdCascade;
+
+/* How the scales are laid out (Scales_Layout): the thesis' staggered grid (§4.3.2) or an
+ * anisotropic centroidal Voronoi tessellation (Landreneau 2011, Chapter V). */
+typedef enum SqScalesLayout {
+    SQ_LAYOUT_GRID = 0,
+    SQ_LAYOUT_VORONOI,
+    SQ_LAYOUT_COUNT
+} SqScalesLayout;
 
 typedef struct SqParams {
     /* pattern type and background (§4.1, §4.2) */
@@ -140,6 +147,8 @@ typedef struct SqParams {
     double Scales_RotationRandom;
     double Scales_BellyScalesPct;
     double Scales_BellyWarpIntensity;
+    int Scales_Layout; /* SqScalesLayout */
+    double Scales_VoronoiAnisotropy;
 
     /* roughness (§4.4) and normal map (§5) */
     double Scales_RoughnessMin;
@@ -231,6 +240,9 @@ extern const char *const sq_pattern_type_names[];
 /* Names of the reaction-diffusion systems and cascades, as used in presets. */
 extern const char *const sq_rd_system_names[];
 extern const char *const sq_rd_cascade_names[];
+
+/* Scales layout names, as used in presets ("grid", "voronoi"). */
+extern const char *const sq_scales_layout_names[];
 
 #ifdef __cplusplus
 }
