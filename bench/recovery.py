@@ -30,14 +30,27 @@ import subprocess
 import sys
 import time
 
-CATEGORIES = ["none", "longitudinal", "transversal", "spots", "other_simple"]
+# The first SIMPLE_ROWS truths cycle through the five simple categories, as they did before
+# the complex patterns landed (so earlier runs stay comparable); complex truths follow.
+SIMPLE = ["none", "longitudinal", "transversal", "spots", "other_simple"]
+SIMPLE_ROWS = 30
+CATEGORIES = SIMPLE + ["complex"]
 BASES = {
     "none": ["d11_five_lined_skink.json", "table_4_4_spots.json"],
     "longitudinal": ["d11_five_lined_skink.json", "table_4_3_longitudinal.json"],
     "transversal": ["table_4_1_transversal.json", "table_4_2_micrurus_altirostris.json"],
     "spots": ["table_4_4_spots.json", "table_4_5_spots_interleaved.json"],
     "other_simple": ["figure_4_9_other_simple.json"],
+    "complex": ["../complex/viper_blotches.json", "../complex/boa_saddles.json", "../complex/cheetah.json",
+                "../complex/leopard.json", "../complex/python_reticulated.json", "../complex/giraffe.json"],
 }
+
+
+def category_of(i):
+    """The category of truth i and which of its bases it uses."""
+    if i < SIMPLE_ROWS:
+        return SIMPLE[i % len(SIMPLE)], i // len(SIMPLE)
+    return "complex", i - SIMPLE_ROWS
 BASELINES = ["random", "esch", "crs2", "isres"]
 
 
@@ -102,8 +115,12 @@ def main():
     ap.add_argument("--squama", required=True)
     ap.add_argument("--tool", required=True)
     ap.add_argument("--presets", required=True)
-    ap.add_argument("--n", type=int, default=30, help="ground truths (default 30)")
+    ap.add_argument("--n", type=int, default=36,
+                    help="ground truths (default 36: 30 of the simple categories, then 6 complex)")
     ap.add_argument("--budget", default="60s", help="squama's time budget per photo (default 60s)")
+    ap.add_argument("--evals", type=int, default=0,
+                    help="an evaluation budget per photo instead of --budget: deterministic, the "
+                         "same on a busy machine (e.g. 5000, about 20 s on 2 cores)")
     ap.add_argument("--baseline-every", type=int, default=3,
                     help="run the baselines on every K-th photo (default 3; 0: none)")
     ap.add_argument("--threads", type=int, default=0)
@@ -115,9 +132,9 @@ def main():
     rows = []
     t0 = time.time()
     for i in range(args.n):
-        cat = CATEGORIES[i % len(CATEGORIES)]
+        cat, k = category_of(i)
         bases = BASES[cat]
-        base = os.path.join(args.presets, bases[(i // len(CATEGORIES)) % len(bases)])
+        base = os.path.join(args.presets, bases[k % len(bases)])
         d = os.path.join(args.out, "%02d_%s" % (i, cat))
         os.makedirs(d, exist_ok=True)
         truth = os.path.join(d, "truth.json")
@@ -135,7 +152,8 @@ def main():
         if args.fidelity:
             rows.append(fidelity(args, i, cat, photo, mask, truth, view_t))
             continue
-        sq = fit(args, photo, mask, os.path.join(d, "squama"), ["--budget", args.budget])
+        sq = fit(args, photo, mask, os.path.join(d, "squama"),
+                 ["--evals", str(args.evals)] if args.evals else ["--budget", args.budget])
         sq["dir"] = os.path.join(d, "squama")
         norm = sq["norm"]
         row = {"i": i, "category": cat, "fitted": sq["category"], "score": sq["score"],
@@ -157,7 +175,8 @@ def main():
 
     if args.fidelity:
         return fidelity_table(rows)
-    print("\nrecovery: %d ground truths, squama fit --budget %s, true masks" % (args.n, args.budget))
+    how = "--evals %d" % args.evals if args.evals else "--budget %s" % args.budget
+    print("\nrecovery: %d ground truths, squama fit %s, true masks" % (args.n, how))
     print("%-14s %3s %9s %10s %12s" % ("category", "n", "accuracy", "dE00 med", "ratio med"))
     for cat in CATEGORIES + ["all"]:
         rs = [r for r in rows if cat in ("all", r["category"])]
@@ -167,7 +186,7 @@ def main():
         print("%-14s %3d %8.0f%% %10.2f %12.2f" % (cat, len(rs), 100 * acc, med([r["palette_de00"] for r in rs]),
                                                  med([r["ratio"] for r in rs])))
     acc = sum(r["fitted"] == r["category"] for r in rows) / len(rows)
-    result = ["n=%d" % len(rows), "budget=%s" % args.budget, "accuracy=%.3f" % acc,
+    result = ["n=%d" % len(rows), "budget=%s" % (("%devals" % args.evals) if args.evals else args.budget), "accuracy=%.3f" % acc,
               "de00_median=%.2f" % med([r["palette_de00"] for r in rows]),
               "ratio_median=%.2f" % med([r["ratio"] for r in rows])]
     withb = [r for r in rows if r["baselines"]]

@@ -53,6 +53,9 @@ static const char help[] =
     "      --size N         size of the written maps (default 1024)\n"
     "      --resume DIR     start from the front in DIR/checkpoint with the budget left\n"
     "      --method M       squama (default), or a baseline: random, esch, crs2, isres\n"
+    "      --categories L   only these pattern types, comma-separated (default: all six;\n"
+    "                       e.g. none,longitudinal,transversal,spots,other_simple skips the\n"
+    "                       costly reaction-diffusion of complex)\n"
     "      --work-size N    longest side the photo is prepared at (default 1024)\n"
     "  -q, --quiet          no progress and no summary\n"
     "      --json           progress as JSON lines on stdout, then a summary object\n"
@@ -367,7 +370,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "the front member with the lowest score: the sum over objectives of each "
                             "objective divided by its median over the screening (norm); the simplest "
                             "category within 5% of that score is preferred (none, then longitudinal "
-                            "or transversal, then spots, then other_simple), being the simpler "
+                            "or transversal, then spots, then other_simple, then complex), being the simpler "
                             "explanation");
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
@@ -420,7 +423,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
 
 int cmd_fit(int argc, char **argv)
 {
-    enum { O_EVALS = 1000, O_SIZE, O_RESUME, O_METHOD, O_WORK, O_JSON };
+    enum { O_EVALS = 1000, O_SIZE, O_RESUME, O_METHOD, O_WORK, O_JSON, O_CATEGORIES };
     static const struct option opts[] = {
         {"mask", required_argument, NULL, 'm'},     {"output", required_argument, NULL, 'o'},
         {"budget", required_argument, NULL, 'b'},   {"evals", required_argument, NULL, O_EVALS},
@@ -428,6 +431,7 @@ int cmd_fit(int argc, char **argv)
         {"size", required_argument, NULL, O_SIZE},  {"resume", required_argument, NULL, O_RESUME},
         {"method", required_argument, NULL, O_METHOD}, {"work-size", required_argument, NULL, O_WORK},
         {"quiet", no_argument, NULL, 'q'},          {"json", no_argument, NULL, O_JSON},
+        {"categories", required_argument, NULL, O_CATEGORIES},
         {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     const char *mask_path = NULL, *outdir = NULL, *resume = NULL;
     SqFitOptions fo = sq_fit_options_default();
@@ -479,6 +483,26 @@ int cmd_fit(int argc, char **argv)
             po.work_size = (int)v;
             break;
         case O_RESUME: resume = optarg; break;
+        case O_CATEGORIES: {
+            fo.categories = 0;
+            char list[256];
+            snprintf(list, sizeof list, "%s", optarg);
+            for (char *save = NULL, *name = strtok_r(list, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
+                int found = -1;
+                for (int k = 0; k < SQ_PATTERN_COUNT; k++)
+                    if (strcmp(name, sq_pattern_type_name(k)) == 0)
+                        found = k;
+                if (found < 0)
+                    return cli_usage("fit",
+                                     "--categories takes pattern types among none, longitudinal, transversal, "
+                                     "spots, other_simple, complex; got '%s'",
+                                     name);
+                fo.categories |= 1u << found;
+            }
+            if (fo.categories == 0)
+                return cli_usage("fit", "--categories needs at least one pattern type");
+            break;
+        }
         case O_METHOD: {
             int found = 0;
             for (int m = SQ_FIT_SQUAMA; m <= SQ_FIT_ISRES; m++)

@@ -14,12 +14,15 @@
 enum {
     STRIP_ROWS = 256,       /* candidate strip length, as sq_fit_score uses */
     ARCHIVE_MAX = 64,
-    CATEGORIES = SQ_PATTERN_COMPLEX /* the categories the generator can make */
+    CATEGORIES = SQ_PATTERN_COUNT /* the categories the generator can make */
 };
 
 /* A simpler category (see simplicity()) scoring within this fraction of the best is
  * preferred to it. */
 static const double PARSIMONY = 0.05;
+
+/* The reaction-diffusion grid of the fit's complex candidates (RD_Cells). */
+enum { FIT_RD_CELLS = 48 };
 
 /* The view scale gene: log scale over the grid's range. */
 static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
@@ -272,6 +275,11 @@ static double *pattern_colours(SqParams *p, int category, double **list)
         break;
     case SQ_PATTERN_SPOTS: list[n++] = p->Spots_Color; break;
     case SQ_PATTERN_OTHER_SIMPLE: list[n++] = p->CustomPattern_Color_Inside; break;
+    case SQ_PATTERN_COMPLEX:
+        list[n++] = p->RD_Color1;
+        list[n++] = p->RD_Color2;
+        list[n++] = p->RD_Color3;
+        break;
     default: break;
     }
     list[n] = NULL;
@@ -329,6 +337,15 @@ static void random_candidate(Fit *f, const SqGenome *g, SqFitCandidate *c)
         uint64_t s = sq__rng_next(&f->rng);
         sq_gp_ca_random(&s, &c->params.CA_Descriptor);
     }
+    if (g->category == SQ_PATTERN_COMPLEX) {
+        /* a simulation costs the square of its grid: the fit's is as small as the shipped
+         * presets' (36 to 56 cells); RD_ReactionSpeed and the view scale set the feature
+         * size */
+        c->params.RD_Cells = FIT_RD_CELLS;
+        /* a rim or core, and a cascade's centres: on or off */
+        c->params.RD_Color2[3] = sq__rng_uniform(&f->rng) < 0.5;
+        c->params.RD_Color3[3] = sq__rng_uniform(&f->rng) < 0.5;
+    }
     c->params.Seed = (int)(sq__rng_next(&f->rng) & 0x7fffffff);
     c->view_scale = 1;
 }
@@ -345,16 +362,31 @@ static int cmp_score(const void *a, const void *b)
     return (x->score > y->score) - (x->score < y->score);
 }
 
-/* Screens every category; fills norm and category_score; leaves the candidates sorted by
- * score in *out. */
+/* Whether the fit tries category c. */
+static int fitted(const SqFitOptions *o, int c)
+{
+    return c >= 0 && c < CATEGORIES && (o->categories == 0 || (o->categories >> c) & 1u);
+}
+
+static int ncategories(const SqFitOptions *o)
+{
+    int n = 0;
+    for (int c = 0; c < CATEGORIES; c++)
+        n += fitted(o, c);
+    return n;
+}
+
+/* Screens every category fitted; fills norm and category_score; leaves the candidates
+ * sorted by score in *out. */
 static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
 {
+    const int ncat = ncategories(&f->o);
     int per = f->o.screen;
     if (f->o.max_evals > 0) { /* at most 30% of an evaluation budget, at least 4 a category */
-        long cap = (long)(0.3 * (double)f->o.max_evals) / CATEGORIES;
+        long cap = (long)(0.3 * (double)f->o.max_evals) / ncat;
         per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
     }
-    int n = per * CATEGORIES + f->o.nseeds;
+    int n = per * ncat + f->o.nseeds;
     SqFitCandidate *c = calloc((size_t)n, sizeof *c);
     double *col = malloc(sizeof(double) * (size_t)n);
     if (!c || !col) {
@@ -365,6 +397,8 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     int k = 0;
     for (int cat = 0; cat < CATEGORIES; cat++) {
         SqGenome g;
+        if (!fitted(&f->o, cat))
+            continue;
         if (sq_genome_init(&g, cat, err) != SQ_OK) {
             free(c);
             free(col);
@@ -912,6 +946,9 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
                             "screen (2..10000), niches (1..%d), reseeds (1..64) and front_max (>= 1) "
                             "are out of range",
                             (int)CATEGORIES);
+    if ((o->categories >> CATEGORIES) != 0)
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "the categories name a pattern type beyond the %d there are",
+                            (int)CATEGORIES);
     if (o->nseeds < 0 || (o->nseeds > 0 && !o->seeds))
         return sq_error_set(err, SQ_ERR_INVALID, "fit", "seed candidates missing");
     for (int i = 0; i < o->nseeds; i++) {
@@ -923,6 +960,10 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
         SqStatus st = sq_params_validate(&o->seeds[i].params, err);
         if (st != SQ_OK)
             return st;
+        if (!fitted(o, t))
+            return sq_error_set(err, SQ_ERR_INVALID, "fit",
+                                "a starting preset has pattern type \"%s\", which this fit leaves out",
+                                sq_pattern_type_name(t));
     }
     return SQ_OK;
 }
@@ -1037,6 +1078,8 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         enum { ROUND = 4 };
         int alive[CATEGORIES], nalive = 0;
         for (int cat = 0; cat < CATEGORIES; cat++) {
+            if (!fitted(o, cat))
+                continue;
             st = niche_init(&f, &niches[nn], cat, screened, nscreened, err);
             if (st != SQ_OK)
                 goto done;

@@ -39,6 +39,15 @@ static const char *const other_simple[] = {
     "CustomPattern_Color_Inside", "CA_CircleDiameter", "Pattern_RotatePattern90Degrees", NULL,
 };
 
+/* Reaction-diffusion. RD_Cells is not a gene: it sets the cost of a simulation (its
+ * square), and the feature size follows RD_ReactionSpeed and the view scale as well (the
+ * fit sets it; search/fit.c). */
+static const char *const complex_rd[] = {
+    "RD_System", "RD_Cascade", "RD_ReactionSpeed", "RD_ReactionSpeed2", "RD_BetaVariation",
+    "RD_StripeDiffusion", "RD_StripeDiffusion2", "RD_Anisotropy", "RD_FlankSpeed", "RD_Color1",
+    "RD_Threshold1", "RD_Color2", "RD_Threshold2", "RD_Color3", "RD_Softness", NULL,
+};
+
 /* Integers with at most this many values in their suggested range are discrete genes. */
 enum { DISCRETE_MAX = 16 };
 
@@ -63,6 +72,10 @@ static int add_param(SqGenome *g, const char *name)
             e->levels = 2;
             e->lo = 0;
             e->hi = 1;
+            break;
+        case SQ_PT_ENUM: /* categorical: one level per choice */
+            e->kind = SQ_GENE_INT;
+            e->levels = (int)(s->smax - s->smin + 1);
             break;
         case SQ_PT_INT:
             if (s->smax - s->smin + 1 <= DISCRETE_MAX) {
@@ -104,6 +117,7 @@ SqStatus sq_genome_init(SqGenome *g, int category, SqError *err)
         own = other_simple;
         g->has_ca = 1;
         break;
+    case SQ_PATTERN_COMPLEX: own = complex_rd; break;
     default:
         return sq_error_set(err, SQ_ERR_UNSUPPORTED, "genome",
                             "pattern type \"%s\" has no genome yet", sq_pattern_type_name(category));
@@ -123,7 +137,7 @@ void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x)
     for (int i = 0; i < g->n; i++) {
         const SqGene *e = &g->genes[i];
         const void *ptr = sq_param_cptr(p, e->spec);
-        double v = (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL)
+        double v = (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL || e->spec->type == SQ_PT_ENUM)
                        ? *(const int *)ptr
                        : ((const double *)ptr)[e->comp];
         double t;

@@ -52,6 +52,8 @@ static SqFitOptions small(int threads)
     o.reseeds = 2;
     o.threads = threads;
     o.seed = 5;
+    /* the five simple categories: reaction-diffusion's cost is tested on its own */
+    o.categories = (1u << SQ_PATTERN_COMPLEX) - 1;
     return o;
 }
 
@@ -62,7 +64,7 @@ static void recovers_category(void **state)
     SqFitResult r;
     SqError err;
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
-    for (int c = 0; c < SQ_PATTERN_COMPLEX; c++)
+    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
         printf("  %-14s %.3f%s\n", sq_pattern_type_name(c), r.category_score[c], r.niche[c] ? " (niche)" : "");
     printf("  category %s, view scale %.3f, score %.3f, %ld evaluations, front %d\n",
            sq_pattern_type_name(r.best.params.Pattern_Type), r.best.view_scale, r.best.score, r.evals, r.nfront);
@@ -84,7 +86,7 @@ static void recovers_category(void **state)
     /* every category the generator makes was screened and evolved */
     for (int c = 0; c < SQ_PATTERN_COMPLEX; c++)
         assert_true(isfinite(r.category_score[c]));
-    assert_false(isfinite(r.category_score[SQ_PATTERN_COMPLEX]));
+    assert_false(isfinite(r.category_score[SQ_PATTERN_COMPLEX])); /* left out */
     assert_true(r.survivor[SQ_PATTERN_LONGITUDINAL]);
     assert_true(r.nhistory >= 3);
     for (int i = 1; i < r.nhistory; i++) /* the best so far never gets worse */
@@ -103,9 +105,37 @@ static void prefers_a_plain_skin(void **state)
            r.best.score, r.category_score[SQ_PATTERN_NONE]);
     assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_NONE);
     assert_int_equal(r.front[0].params.Pattern_Type, SQ_PATTERN_NONE);
-    for (int c = 0; c < SQ_PATTERN_COMPLEX; c++) /* within 5% of every other category */
+    for (int c = 0; c < SQ_PATTERN_COUNT; c++) /* within 5% of every other category */
         assert_true(r.best.score <= 1.05 * r.category_score[c] + 1e-9);
     sq_fit_result_free(&r);
+}
+
+/* By default every category is screened and evolved, reaction-diffusion included; a
+ * category mask keeps the fit to the ones named. */
+static void categories_fitted(void **state)
+{
+    (void)state;
+    SqFitOptions o = small(2);
+    o.categories = 0;
+    o.max_evals = 200;
+    SqFitResult r;
+    SqError err;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    for (int c = 0; c < SQ_PATTERN_COUNT; c++) {
+        assert_true(isfinite(r.category_score[c]));
+        assert_true(r.niche[c]);
+    }
+    assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    sq_fit_result_free(&r);
+    o.categories = 1u << SQ_PATTERN_NONE | 1u << SQ_PATTERN_SPOTS;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
+        assert_int_equal(isfinite(r.category_score[c]) != 0, c == SQ_PATTERN_NONE || c == SQ_PATTERN_SPOTS);
+    assert_true(r.best.params.Pattern_Type == SQ_PATTERN_NONE || r.best.params.Pattern_Type == SQ_PATTERN_SPOTS);
+    sq_fit_result_free(&r);
+    o.categories = 1u << SQ_PATTERN_COUNT; /* no such category */
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "categories");
 }
 
 static void same_result_on_any_thread_count(void **state)
@@ -171,10 +201,15 @@ static void bad_options(void **state)
     SqFitCandidate seed = {0};
     sq_params_default(&seed.params);
     seed.params.Pattern_Type = SQ_PATTERN_COMPLEX;
+    seed.params.RD_ReactionSpeed = 7; /* outside its hard range */
     o.seeds = &seed;
     o.nseeds = 1;
-    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_UNSUPPORTED);
-    assert_contains(err.what, "complex");
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "RD_ReactionSpeed");
+    seed.params.RD_ReactionSpeed = 0.05; /* valid, but of a category the fit leaves out */
+    o.categories = 1u << SQ_PATTERN_SPOTS;
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "leaves out");
 }
 
 int main(void)
@@ -182,6 +217,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(recovers_category),
         cmocka_unit_test(prefers_a_plain_skin),
+        cmocka_unit_test(categories_fitted),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

@@ -5,7 +5,7 @@
 #include "squama/search.h"
 
 static const int categories[] = {SQ_PATTERN_NONE, SQ_PATTERN_LONGITUDINAL, SQ_PATTERN_TRANSVERSAL,
-                                 SQ_PATTERN_SPOTS, SQ_PATTERN_OTHER_SIMPLE};
+                                 SQ_PATTERN_SPOTS, SQ_PATTERN_OTHER_SIMPLE, SQ_PATTERN_COMPLEX};
 
 static double uniform(uint64_t *s)
 {
@@ -30,8 +30,49 @@ static void genes_of_each_category(void **state)
     }
     SqGenome g;
     SqError err;
-    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_COMPLEX, &err), SQ_ERR_UNSUPPORTED);
-    assert_contains(err.what, "complex");
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_COUNT, &err), SQ_ERR_UNSUPPORTED);
+}
+
+/* Reaction-diffusion's system and cascade are categorical genes, one level per choice; its
+ * grid is no gene (it sets the cost of a candidate). */
+static void complex_genes(void **state)
+{
+    (void)state;
+    SqGenome g;
+    assert_int_equal(sq_genome_init(&g, SQ_PATTERN_COMPLEX, NULL), SQ_OK);
+    int sys = -1, cascade = -1, cells = -1, speed = -1;
+    for (int i = 0; i < g.n; i++) {
+        const char *n = g.genes[i].spec->name;
+        if (strcmp(n, "RD_System") == 0)
+            sys = i;
+        if (strcmp(n, "RD_Cascade") == 0)
+            cascade = i;
+        if (strcmp(n, "RD_Cells") == 0)
+            cells = i;
+        if (strcmp(n, "RD_ReactionSpeed") == 0)
+            speed = i;
+    }
+    assert_true(sys >= 0 && cascade >= 0 && speed >= 0);
+    assert_int_equal(cells, -1);
+    assert_int_equal(g.genes[sys].kind, SQ_GENE_INT);
+    assert_int_equal(g.genes[sys].levels, SQ_RD_SYSTEM_COUNT);
+    assert_int_equal(g.genes[cascade].levels, SQ_RD_CASCADE_COUNT);
+    assert_int_equal(g.genes[speed].kind, SQ_GENE_LOG);
+    /* every level of the cascade decodes to its choice and back */
+    double x[SQ_GENOME_MAX], y[SQ_GENOME_MAX];
+    for (int i = 0; i < g.n; i++)
+        x[i] = 0.5;
+    SqParams p;
+    sq_params_default(&p);
+    for (int k = 0; k < SQ_RD_CASCADE_COUNT; k++) {
+        x[cascade] = (k + 0.5) / SQ_RD_CASCADE_COUNT;
+        sq_genome_decode(&g, x, &p);
+        assert_int_equal(p.RD_Cascade, k);
+        assert_int_equal(p.Pattern_Type, SQ_PATTERN_COMPLEX);
+        assert_int_equal(sq_params_validate(&p, NULL), SQ_OK);
+        sq_genome_encode(&g, &p, y);
+        assert_true(fabs(y[cascade] - x[cascade]) < 1e-9);
+    }
 }
 
 static const SqGene *gene(const SqGenome *g, const char *name, int comp)
@@ -184,6 +225,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(genes_of_each_category),
+        cmocka_unit_test(complex_genes),
         cmocka_unit_test(kinds_follow_the_table),
         cmocka_unit_test(decode_encode_round_trip),
         cmocka_unit_test(levels_for_cmaes),

@@ -210,6 +210,7 @@ typedef struct SqFitOptions {
     int coarse_size;         /* render size while screening and evolving (128) */
     int fine_size;           /* render size when re-scoring and polishing (256) */
     int screen;              /* random candidates per category (48) */
+    unsigned categories;     /* bit c set: pattern category c is fitted; 0: every category */
     int niches;              /* categories left evolving after the racing (2) */
     int reseeds;             /* seeds the finalists are re-scored over (4) */
     int front_max;           /* largest front kept (24) */
