@@ -17,11 +17,15 @@
 
 static const char help[] =
     "usage: squama render [PRESET] -o DIR [options]\n"
+    "       squama render --sheet OUT.png PRESET... [--size N] [--cols C]\n"
     "\n"
     "Renders a preset's four maps into DIR: basecolor, height, roughness and normal\n"
     "(.png or .exr). Each file is written atomically. With --ca FILE the pattern is that\n"
     "cellular-automaton descriptor (the thesis' text format, Appendix E), over PRESET's\n"
     "other parameters or the defaults.\n"
+    "\n"
+    "With --sheet, every PRESET's base colour is rendered at --size (default 256) and laid\n"
+    "out in a grid with its name beneath it: a contact sheet to choose from by looking.\n"
     "\n"
     "options:\n"
     "  -o, --output DIR     folder for the maps (created if missing)\n"
@@ -33,6 +37,8 @@ static const char help[] =
     "      --seed N         override the preset's Seed\n"
     "      --directx        DirectX normal map (-Y); default OpenGL (+Y)\n"
     "      --preview        also preview.png: the texture on a lit snake body\n"
+    "      --sheet OUT.png  a contact sheet of the PRESETs instead of their maps\n"
+    "      --cols C         the sheet's columns (default: about the square root)\n"
     "  -j, --threads N      threads (default: all cores)\n"
     "  -q, --quiet          print nothing but errors\n"
     "  -h, --help           show this help\n";
@@ -45,19 +51,90 @@ static double now_ms(void)
     return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
 }
 
+/* The sheet's look: tiles `size` square, a label band beneath each, gaps between. */
+enum { SHEET_GAP = 8, SHEET_LABEL = 22 };
+
+static void paste(SqImage *dst, const SqImage *src, int x0, int y0)
+{
+    for (int y = 0; y < src->height; y++)
+        for (int x = 0; x < src->width; x++) {
+            const float *s = src->px + ((size_t)y * src->width + x) * src->channels;
+            float *d = dst->px + ((size_t)(y0 + y) * dst->width + x0 + x) * 3;
+            memcpy(d, s, sizeof(float) * 3);
+        }
+}
+
+/* A contact sheet of presets: each one's base colour at size x size, in a grid of cols
+ * columns, its name beneath. Nothing is written unless every preset renders. */
+static int render_sheet(const char *out, char **presets, int n, int size, int cols, SqGenOptions go,
+                        int quiet)
+{
+    if (cols <= 0)
+        for (cols = 1; cols * cols < n; cols++)
+            ;
+    const int rows = (n + cols - 1) / cols;
+    const int cw = size + SHEET_GAP, ch = size + SHEET_LABEL + SHEET_GAP;
+    SqImage sheet;
+    SqError err;
+    if (sq_image_alloc(&sheet, SHEET_GAP + cols * cw, SHEET_GAP + rows * ch, 3, SQ_SPACE_SRGB) != 0) {
+        sq_error_set(&err, SQ_ERR_NOMEM, out, "out of memory for a %dx%d sheet", cols, rows);
+        return cli_fail(&err);
+    }
+    for (size_t i = 0; i < (size_t)sheet.width * sheet.height * 3; i++)
+        sheet.px[i] = 0.16f;
+    go.width = go.height = size;
+    int rc = CLI_OK, labels = 1;
+    for (int i = 0; i < n && rc == CLI_OK; i++) {
+        SqParams p;
+        SqTextures tex;
+        if (sq_preset_load(presets[i], &p, NULL, &err) != SQ_OK ||
+            sq_gen_render(&p, &go, &tex, &err) != SQ_OK) {
+            rc = cli_fail(&err);
+            break;
+        }
+        const int x = SHEET_GAP + (i % cols) * cw, y = SHEET_GAP + (i / cols) * ch;
+        paste(&sheet, &tex.basecolor, x, y);
+        sq_gen_textures_free(&tex);
+        /* the file's name without its folder and extension */
+        char label[256];
+        const char *base = strrchr(presets[i], '/');
+        snprintf(label, sizeof label, "%s", base ? base + 1 : presets[i]);
+        char *dot = strrchr(label, '.');
+        if (dot && dot != label)
+            *dot = '\0';
+        /* as much of it as fits: DejaVu Sans at 13 px is about 7.5 px a glyph */
+        const size_t fit = (size_t)(size / 7.5);
+        if (strlen(label) > fit && fit > 3)
+            strcpy(label + fit - 3, "...");
+        static const float ink[3] = {0.92f, 0.92f, 0.92f};
+        if (labels && sq_io_draw_text(&sheet, x + 2, y + size + 16, 13, label, ink, &err) != SQ_OK) {
+            labels = 0; /* no font: the sheet goes unlabelled, in the order given */
+            fprintf(stderr, "squama: the sheet has no labels (%s); the presets are in the order given\n",
+                    err.what);
+        }
+    }
+    if (rc == CLI_OK && sq_io_write_image(out, &sheet, NULL, &err) != SQ_OK)
+        rc = cli_fail(&err);
+    if (rc == CLI_OK && !quiet)
+        printf("wrote %s: %d preset%s, %d x %d\n", out, n, n == 1 ? "" : "s", cols, rows);
+    sq_image_free(&sheet);
+    return rc;
+}
+
 int cmd_render(int argc, char **argv)
 {
-    enum { OPT_CA = 1000, OPT_SEED, OPT_DIRECTX, OPT_PREVIEW };
+    enum { OPT_CA = 1000, OPT_SEED, OPT_DIRECTX, OPT_PREVIEW, OPT_SHEET, OPT_COLS };
     static const struct option opts[] = {
         {"output", required_argument, NULL, 'o'}, {"size", required_argument, NULL, 's'},
         {"format", required_argument, NULL, 'f'}, {"bits", required_argument, NULL, 'b'},
         {"ca", required_argument, NULL, OPT_CA},  {"seed", required_argument, NULL, OPT_SEED},
         {"directx", no_argument, NULL, OPT_DIRECTX}, {"threads", required_argument, NULL, 'j'},
-        {"preview", no_argument, NULL, OPT_PREVIEW},
+        {"preview", no_argument, NULL, OPT_PREVIEW}, {"sheet", required_argument, NULL, OPT_SHEET},
+        {"cols", required_argument, NULL, OPT_COLS},
         {"quiet", no_argument, NULL, 'q'},        {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0}};
-    const char *outdir = NULL, *ca_file = NULL, *ext = "png";
-    int bits = 0, quiet = 0, preview = 0, c;
+    const char *outdir = NULL, *ca_file = NULL, *ext = "png", *sheet = NULL;
+    int bits = 0, quiet = 0, preview = 0, cols = 0, size_given = 0, c;
     long seed = -1;
     SqGenOptions go = sq_gen_options_default(1024);
     optind = 0;
@@ -70,6 +147,13 @@ int cmd_render(int argc, char **argv)
             if (!cli_parse_size(optarg, 8, SQ_GEN_MAX_SIZE, &go.width, &go.height))
                 return cli_usage("render", "--size must be N or WxH with sides from 8 to %d, got '%s'",
                                  SQ_GEN_MAX_SIZE, optarg);
+            size_given = 1;
+            break;
+        case OPT_SHEET: sheet = optarg; break;
+        case OPT_COLS:
+            cols = (int)strtol(optarg, &end, 10);
+            if (*end || cols < 1 || cols > 64)
+                return cli_usage("render", "--cols must be 1 to 64, got '%s'", optarg);
             break;
         case 'f':
             if (strcmp(optarg, "png") != 0 && strcmp(optarg, "exr") != 0)
@@ -101,6 +185,16 @@ int cmd_render(int argc, char **argv)
                 return cli_usage("render", "-%c needs a value", optopt);
             return cli_usage("render", "unknown option '%s'", argv[optind - 1]);
         }
+    }
+    if (sheet) {
+        if (argc - optind < 1)
+            return cli_usage("render", "--sheet needs the PRESETs to lay out");
+        if (outdir || ca_file || preview)
+            return cli_usage("render", "--sheet makes one image: -o, --ca and --preview do not go with it");
+        if (size_given && (go.width != go.height || go.width < 32 || go.width > 1024))
+            return cli_usage("render", "a sheet's --size is one side from 32 to 1024, got %dx%d", go.width,
+                             go.height);
+        return render_sheet(sheet, argv + optind, argc - optind, size_given ? go.width : 256, cols, go, quiet);
     }
     const int png = strcmp(ext, "png") == 0;
     if (bits && (png ? bits == 32 : bits == 8))

@@ -235,6 +235,26 @@ extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt,
     }
 }
 
+extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *text,
+                                    const float color[3], SqError *err)
+{
+    if (!img || !img->px || img->channels < 3 || !text)
+        return sq_error_set(err, SQ_ERR_INVALID, "text", "no colour image to draw on");
+    try {
+        // the image's own pixels, wrapped: drawing writes straight into them
+        ImageSpec spec(img->width, img->height, img->channels, TypeDesc::FLOAT);
+        ImageBuf buf(spec, img->px);
+        float rgba[4] = {color[0], color[1], color[2], 1.0f};
+        if (!ImageBufAlgo::render_text(buf, x, y, text, px_size, "DejaVuSans",
+                                       cspan<float>(rgba, img->channels)))
+            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: %s",
+                                buf.geterror().c_str());
+        return SQ_OK;
+    } catch (const std::exception &e) {
+        return sq_error_set(err, SQ_ERR_INTERNAL, "text", "cannot draw text: %s", e.what());
+    }
+}
+
 extern "C" SqStatus sq_io_write_image(const char *path, const SqImage *img,
                                       const SqWriteOptions *opt, SqError *err)
 {

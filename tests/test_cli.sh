@@ -115,6 +115,17 @@ run render "$TMP/complex_bad.json" -o "$TMP/r/cx2" --size 32
 check "render complex bad system" 1 err "RD_System"
 [ -e "$TMP/r/cx2/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
 run render "$TMP/typo.json" -o "$TMP/r/t";  check "render bad preset" 1 err "unknown key"
+# contact sheets: a grid of presets, or nothing at all when one of them is bad
+run render --sheet "$TMP/sheet.png" "$SRC/presets/thesis/table_4_4_spots.json" "$SRC/presets/thesis/table_4_1_transversal.json" \
+  "$SRC/presets/thesis/d11_five_lined_skink.json" --size 48 --cols 2
+check "render --sheet" 0 out "wrote $TMP/sheet.png: 3 presets, 2 x 2"
+[ -s "$TMP/sheet.png" ] || { echo "FAIL: sheet.png missing"; fails=$((fails + 1)); }
+run render --sheet "$TMP/sheet2.png" "$SRC/presets/thesis/table_4_4_spots.json" "$TMP/typo.json" --size 48
+check "render --sheet bad preset" 1 err "unknown key"
+[ -e "$TMP/sheet2.png" ] && { echo "FAIL: a failed sheet was written"; fails=$((fails + 1)); }
+run render --sheet "$TMP/sheet3.png" "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r"
+check "render --sheet with -o" 2 err "--sheet makes one image"
+run render --sheet "$TMP/sheet3.png"; check "render --sheet alone" 2 err "needs the PRESETs"
 
 # photo and preview
 run photo --help;         check "photo --help" 0 out "usage: squama photo"

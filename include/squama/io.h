@@ -52,6 +52,12 @@ typedef struct SqWriteOptions {
 SqStatus sq_io_write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
                            SqError *err);
 
+/* Draws text into img (3 or 4 channels) with its baseline's left end at (x, y), glyphs
+ * px_size pixels tall, in color (the image's own encoding), with the system's DejaVu Sans
+ * (Debian's fonts-dejavu-core). SQ_ERR_UNSUPPORTED when no font can be found. */
+SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *text,
+                         const float color[3], SqError *err);
+
 /* Writes len bytes atomically (temporary file, fsync, rename). */
 SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqError *err);
 
