@@ -162,6 +162,22 @@ static void print_markdown(const SqParams *def)
            "gamma-space RGBA in [0,1]. *Range* is what a preset may hold; *suggested* is the\n"
            "thesis' advice where it gives one, otherwise squama's.\n",
            counts[SQ_ORIGIN_THESIS], counts[SQ_ORIGIN_THESIS_D11], counts[SQ_ORIGIN_SQUAMA]);
+    /* the groups a layer object takes, as the table has them */
+    printf("\n`Pattern_Layers` stacks up to %d whole patterns over the base pattern, bottom\n"
+           "first. Each is an object of the parameters of the groups",
+           SQ_MAX_PATTERN_LAYERS);
+    const char *last = NULL;
+    for (size_t i = 0; i < n; i++) {
+        if (!sq_param_in_layer(&t[i]) || (t[i].flags & SQ_PF_LAYER) ||
+            (last && strcmp(last, t[i].group) == 0))
+            continue;
+        printf("%s*%s*", last ? ", " : " ", t[i].group);
+        last = t[i].group;
+    }
+    printf(",\nplus `Layer_Blend` and `Layer_Opacity`; a missing key takes its default below.\n"
+           "A layer has its own post-process and warp, draws its own random instance (seeded\n"
+           "from `Seed` and its index) and is blended over the colour map below it; the\n"
+           "outline stays with the base pattern.\n");
     const char *group = NULL;
     for (size_t i = 0; i < n; i++) {
         const SqParamSpec *s = &t[i];

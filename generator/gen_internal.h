@@ -50,7 +50,8 @@ enum {
     SQ_STREAM_BELLY,
     SQ_STREAM_RD,
     SQ_STREAM_RD2,
-    SQ_STREAM_VORONOI
+    SQ_STREAM_VORONOI,
+    SQ_STREAM_LAYER /* the seeds of the pattern layers */
 };
 
 /* ---- small helpers ---- */

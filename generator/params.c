@@ -1,6 +1,7 @@
 /* The engine behind the parameter table: defaults, lookup, validation, comparison.
  * Written once per type, never once per parameter. */
 #include <ctype.h>
+#include <stddef.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,14 +22,16 @@ int sq_param_components(SqParamType type)
     switch (type) {
     case SQ_PT_VEC2: return 2;
     case SQ_PT_COLOR: return 4;
-    case SQ_PT_CA: return 0;
+    case SQ_PT_CA:
+    case SQ_PT_LAYERS: return 0;
     default: return 1;
     }
 }
 
 const char *sq_param_type_name(SqParamType type)
 {
-    static const char *const names[] = {"float", "int", "bool", "enum", "vec2", "color", "ca"};
+    static const char *const names[] = {"float", "int",   "bool", "enum",
+                                        "vec2",  "color", "ca",   "layers"};
     return (unsigned)type < sizeof names / sizeof names[0] ? names[type] : "?";
 }
 
@@ -40,6 +43,33 @@ void *sq_param_ptr(SqParams *p, const SqParamSpec *spec)
 const void *sq_param_cptr(const SqParams *p, const SqParamSpec *spec)
 {
     return (const char *)p + spec->offset;
+}
+
+int sq_param_in_layer(const SqParamSpec *spec)
+{
+    if (spec->flags & SQ_PF_LAYER)
+        return 1;
+    return spec->offset >= offsetof(SqParams, pattern) &&
+           spec->offset < offsetof(SqParams, pattern) + sizeof(SqPatternSpec);
+}
+
+/* A layer row's field relative to the layer: pattern rows shifted from SqParams.pattern to
+ * SqPatternLayer.spec, a layer's own settings from Pattern_Layers.layer[0]. */
+static size_t layer_offset(const SqParamSpec *spec)
+{
+    if (spec->flags & SQ_PF_LAYER)
+        return spec->offset - offsetof(SqParams, Pattern_Layers.layer[0]);
+    return spec->offset - offsetof(SqParams, pattern) + offsetof(SqPatternLayer, spec);
+}
+
+void *sq_param_layer_ptr(SqPatternLayer *l, const SqParamSpec *spec)
+{
+    return sq_param_in_layer(spec) ? (char *)l + layer_offset(spec) : NULL;
+}
+
+const void *sq_param_layer_cptr(const SqPatternLayer *l, const SqParamSpec *spec)
+{
+    return sq_param_in_layer(spec) ? (const char *)l + layer_offset(spec) : NULL;
 }
 
 const SqParamSpec *sq_params_find(const char *name)
@@ -94,28 +124,107 @@ const SqParamSpec *sq_params_closest(const char *name)
     return best;
 }
 
+/* One field at its default; the engine below is written per type and used both on the
+ * top level and inside each pattern layer. */
+static void field_default(void *f, const SqParamSpec *s)
+{
+    switch (s->type) {
+    case SQ_PT_FLOAT: *(double *)f = s->def[0]; break;
+    case SQ_PT_INT:
+    case SQ_PT_BOOL:
+    case SQ_PT_ENUM: *(int *)f = (int)s->def[0]; break;
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR:
+        memcpy(f, s->def, sizeof(double) * (size_t)sq_param_components(s->type));
+        break;
+    case SQ_PT_CA:
+        /* The default text is part of the table and tested to parse. */
+        (void)sq_ca_parse(s->def_text, strlen(s->def_text), s->name, (SqCa *)f, NULL);
+        break;
+    case SQ_PT_LAYERS: {
+        SqPatternLayers *ls = f;
+        ls->count = 0;
+        for (int i = 0; i < SQ_MAX_PATTERN_LAYERS; i++)
+            sq_pattern_layer_default(&ls->layer[i]);
+        break;
+    }
+    }
+}
+
+void sq_pattern_layer_default(SqPatternLayer *l)
+{
+    size_t n;
+    const SqParamSpec *t = sq_params_table(&n);
+    memset(l, 0, sizeof *l);
+    for (size_t i = 0; i < n; i++)
+        if (sq_param_in_layer(&t[i]))
+            field_default(sq_param_layer_ptr(l, &t[i]), &t[i]);
+}
+
 void sq_params_default(SqParams *p)
 {
     size_t n;
     const SqParamSpec *t = sq_params_table(&n);
     memset(p, 0, sizeof *p);
-    for (size_t i = 0; i < n; i++) {
-        void *f = sq_param_ptr(p, &t[i]);
-        switch (t[i].type) {
-        case SQ_PT_FLOAT: *(double *)f = t[i].def[0]; break;
-        case SQ_PT_INT:
-        case SQ_PT_BOOL:
-        case SQ_PT_ENUM: *(int *)f = (int)t[i].def[0]; break;
-        case SQ_PT_VEC2:
-        case SQ_PT_COLOR:
-            memcpy(f, t[i].def, sizeof(double) * (size_t)sq_param_components(t[i].type));
-            break;
-        case SQ_PT_CA:
-            /* The default text is part of the table and tested to parse. */
-            (void)sq_ca_parse(t[i].def_text, strlen(t[i].def_text), t[i].name, (SqCa *)f, NULL);
-            break;
-        }
+    for (size_t i = 0; i < n; i++)
+        if (!(t[i].flags & SQ_PF_LAYER)) /* set with their layers */
+            field_default(sq_param_ptr(p, &t[i]), &t[i]);
+}
+
+/* `name` is how messages call the field: the table name, or "Pattern_Layers[i].Name". */
+static SqStatus field_validate(const void *f, const SqParamSpec *s, const char *name,
+                               SqError *err)
+{
+    switch (s->type) {
+    case SQ_PT_INT:
+    case SQ_PT_BOOL:
+    case SQ_PT_ENUM: {
+        int v = *(const int *)f;
+        if (v < s->min || v > s->max)
+            return sq_error_set(err, SQ_ERR_INVALID, name,
+                                "%s is %d, outside its range [%.9g, %.9g]", name, v, s->min,
+                                s->max);
+        break;
     }
+    case SQ_PT_FLOAT:
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR: {
+        const double *v = f;
+        for (int c = 0; c < sq_param_components(s->type); c++) {
+            if (!isfinite(v[c]))
+                return sq_error_set(err, SQ_ERR_INVALID, name, "%s is not a finite number",
+                                    name);
+            if (v[c] < s->min || v[c] > s->max)
+                return sq_error_set(err, SQ_ERR_INVALID, name,
+                                    "%s is %.9g, outside its range [%.9g, %.9g]", name, v[c],
+                                    s->min, s->max);
+        }
+        break;
+    }
+    case SQ_PT_CA: return sq_ca_validate(f, name, err);
+    case SQ_PT_LAYERS: {
+        const SqPatternLayers *ls = f;
+        if (ls->count < 0 || ls->count > SQ_MAX_PATTERN_LAYERS)
+            return sq_error_set(err, SQ_ERR_INVALID, name,
+                                "%s holds %d layers; at most %d are allowed", name, ls->count,
+                                SQ_MAX_PATTERN_LAYERS);
+        size_t n;
+        const SqParamSpec *t = sq_params_table(&n);
+        for (int k = 0; k < ls->count; k++)
+            for (size_t i = 0; i < n; i++) {
+                if (!sq_param_in_layer(&t[i]))
+                    continue;
+                char sub[160];
+                snprintf(sub, sizeof sub, "%s[%d].%s", name, k, t[i].name);
+                SqStatus st =
+                    field_validate(sq_param_layer_cptr(&ls->layer[k], &t[i]), &t[i], sub, err);
+                if (st != SQ_OK)
+                    return st;
+            }
+        break;
+    }
+    }
+    return SQ_OK;
 }
 
 SqStatus sq_params_validate(const SqParams *p, SqError *err)
@@ -123,71 +232,55 @@ SqStatus sq_params_validate(const SqParams *p, SqError *err)
     size_t n;
     const SqParamSpec *t = sq_params_table(&n);
     for (size_t i = 0; i < n; i++) {
-        const SqParamSpec *s = &t[i];
-        const void *f = sq_param_cptr(p, s);
-        switch (s->type) {
-        case SQ_PT_INT:
-        case SQ_PT_BOOL:
-        case SQ_PT_ENUM: {
-            int v = *(const int *)f;
-            if (v < s->min || v > s->max)
-                return sq_error_set(err, SQ_ERR_INVALID, s->name,
-                                    "%s is %d, outside its range [%.9g, %.9g]", s->name, v,
-                                    s->min, s->max);
-            break;
-        }
-        case SQ_PT_FLOAT:
-        case SQ_PT_VEC2:
-        case SQ_PT_COLOR: {
-            const double *v = f;
-            for (int c = 0; c < sq_param_components(s->type); c++) {
-                if (!isfinite(v[c]))
-                    return sq_error_set(err, SQ_ERR_INVALID, s->name,
-                                        "%s is not a finite number", s->name);
-                if (v[c] < s->min || v[c] > s->max)
-                    return sq_error_set(err, SQ_ERR_INVALID, s->name,
-                                        "%s is %.9g, outside its range [%.9g, %.9g]",
-                                        s->name, v[c], s->min, s->max);
-            }
-            break;
-        }
-        case SQ_PT_CA: {
-            SqStatus st = sq_ca_validate(f, s->name, err);
-            if (st != SQ_OK)
-                return st;
-            break;
-        }
-        }
+        if (t[i].flags & SQ_PF_LAYER) /* checked with the layers in use */
+            continue;
+        SqStatus st = field_validate(sq_param_cptr(p, &t[i]), &t[i], t[i].name, err);
+        if (st != SQ_OK)
+            return st;
     }
     return SQ_OK;
+}
+
+static int field_equal(const void *fa, const void *fb, const SqParamSpec *s)
+{
+    switch (s->type) {
+    case SQ_PT_INT:
+    case SQ_PT_BOOL:
+    case SQ_PT_ENUM: return *(const int *)fa == *(const int *)fb;
+    case SQ_PT_FLOAT:
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR:
+        for (int c = 0; c < sq_param_components(s->type); c++)
+            if (((const double *)fa)[c] != ((const double *)fb)[c])
+                return 0;
+        return 1;
+    case SQ_PT_CA: return sq_ca_equal(fa, fb);
+    case SQ_PT_LAYERS: {
+        const SqPatternLayers *a = fa, *b = fb;
+        if (a->count != b->count)
+            return 0;
+        size_t n;
+        const SqParamSpec *t = sq_params_table(&n);
+        for (int k = 0; k < a->count; k++)
+            for (size_t i = 0; i < n; i++)
+                if (sq_param_in_layer(&t[i]) &&
+                    !field_equal(sq_param_layer_cptr(&a->layer[k], &t[i]),
+                                 sq_param_layer_cptr(&b->layer[k], &t[i]), &t[i]))
+                    return 0;
+        return 1;
+    }
+    }
+    return 0;
 }
 
 int sq_params_equal(const SqParams *a, const SqParams *b)
 {
     size_t n;
     const SqParamSpec *t = sq_params_table(&n);
-    for (size_t i = 0; i < n; i++) {
-        const void *fa = sq_param_cptr(a, &t[i]), *fb = sq_param_cptr(b, &t[i]);
-        switch (t[i].type) {
-        case SQ_PT_INT:
-        case SQ_PT_BOOL:
-        case SQ_PT_ENUM:
-            if (*(const int *)fa != *(const int *)fb)
-                return 0;
-            break;
-        case SQ_PT_FLOAT:
-        case SQ_PT_VEC2:
-        case SQ_PT_COLOR:
-            for (int c = 0; c < sq_param_components(t[i].type); c++)
-                if (((const double *)fa)[c] != ((const double *)fb)[c])
-                    return 0;
-            break;
-        case SQ_PT_CA:
-            if (!sq_ca_equal(fa, fb))
-                return 0;
-            break;
-        }
-    }
+    for (size_t i = 0; i < n; i++)
+        if (!(t[i].flags & SQ_PF_LAYER) &&
+            !field_equal(sq_param_cptr(a, &t[i]), sq_param_cptr(b, &t[i]), &t[i]))
+            return 0;
     return 1;
 }
 
@@ -232,6 +325,21 @@ size_t sq_param_format(const SqParams *p, const SqParamSpec *s, int digits, char
             else
                 sq__appendf(buf, size, &n, "%c", *c);
         }
+        break;
+    }
+    case SQ_PT_LAYERS: {
+        const SqPatternLayers *ls = f;
+        sq__appendf(buf, size, &n, "[");
+        for (int k = 0; k < ls->count; k++) {
+            const SqPatternLayer *l = &ls->layer[k];
+            sq__appendf(buf, size, &n, "%s%s %s ", k ? ", " : "",
+                        sq_pattern_type_name(l->spec.Pattern_Type),
+                        (unsigned)l->Layer_Blend < SQ_BLEND_COUNT
+                            ? sq_layer_blend_names[l->Layer_Blend]
+                            : "?");
+            put_number(buf, size, &n, digits, l->Layer_Opacity);
+        }
+        sq__appendf(buf, size, &n, "]");
         break;
     }
     }

@@ -9,11 +9,27 @@
  * Longitudinal_Pinch, "Keel_Keel_keel_thinness" t is ScaleShape_KeelThickness 1 - t,
  * "Scales_Scales_normal" is Normal_Intensity.
  */
+#include <assert.h>
 #include <stddef.h>
 
 #include "squama/params.h"
 
 #define F(field) offsetof(SqParams, field)
+/* A layer's own setting: the field in the first layer (see SQ_PF_LAYER). */
+#define L(field) offsetof(SqParams, Pattern_Layers.layer[0].field)
+
+/* The base pattern's fields by name lie where `pattern` has them. */
+static_assert(offsetof(SqParams, Pattern_Type) == offsetof(SqParams, pattern),
+              "SqParams' pattern fields start where its SqPatternSpec does");
+static_assert(offsetof(SqParams, CA_Descriptor) ==
+                  offsetof(SqParams, pattern) + offsetof(SqPatternSpec, CA_Descriptor),
+              "SqParams' pattern fields are laid out as SqPatternSpec's");
+static_assert(offsetof(SqParams, Pattern_Warp_Large) ==
+                  offsetof(SqParams, pattern) + offsetof(SqPatternSpec, Pattern_Warp_Large),
+              "SqParams' pattern fields are laid out as SqPatternSpec's");
+static_assert(offsetof(SqParams, Pattern_Warp_Large) + sizeof(double) ==
+                  offsetof(SqParams, pattern) + sizeof(SqPatternSpec),
+              "SqPatternSpec ends with Pattern_Warp_Large, unpadded");
 #define UNIT .min = 0, .max = 1, .smin = 0, .smax = 1
 
 const char *const sq_pattern_type_names[] = {
@@ -23,6 +39,7 @@ const char *const sq_pattern_type_names[] = {
 const char *const sq_rd_system_names[] = {"spots", "stripes", NULL};
 const char *const sq_rd_cascade_names[] = {"none", "spots", "rosettes", "stripes", NULL};
 const char *const sq_scales_layout_names[] = {"grid", "voronoi", NULL};
+const char *const sq_layer_blend_names[] = {"normal", "multiply", "screen", "overlay", NULL};
 
 /* Figure 4.9's example automaton: the default for Pattern_Type other_simple. */
 static const char ca_default[] =
@@ -234,6 +251,24 @@ static const SqParamSpec table[] = {
      .def = {0}, .min = 0, .max = 40, .smin = 0, .smax = 10, .group = "pattern post-process",
      .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.7",
      .help = "distortion by low-frequency Perlin noise (macro variation)"},
+
+    /* ---- pattern layers: whole patterns stacked over the base pattern ---- */
+    {.name = "Pattern_Layers", .type = SQ_PT_LAYERS, .offset = F(Pattern_Layers),
+     .min = 0, .max = SQ_MAX_PATTERN_LAYERS, .smin = 0, .smax = SQ_MAX_PATTERN_LAYERS,
+     .flags = SQ_PF_NOSEARCH, .group = "pattern layers", .origin = SQ_ORIGIN_SQUAMA,
+     .ref = "issue 6",
+     .help = "up to 3 objects, bottom first: Pattern_Type, pattern parameters, Layer_Blend, "
+             "Layer_Opacity"},
+    {.name = "Layer_Blend", .type = SQ_PT_ENUM, .offset = L(Layer_Blend),
+     .choices = sq_layer_blend_names, .def = {SQ_BLEND_NORMAL}, .min = 0,
+     .max = SQ_BLEND_COUNT - 1, .smin = 0, .smax = SQ_BLEND_COUNT - 1,
+     .flags = SQ_PF_LAYER | SQ_PF_NOSEARCH, .group = "pattern layers",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "W3C Compositing, separable blend modes",
+     .help = "in a layer: how it meets the colours below: normal, multiply, screen, overlay"},
+    {.name = "Layer_Opacity", .type = SQ_PT_FLOAT, .offset = L(Layer_Opacity), .def = {1},
+     UNIT, .flags = SQ_PF_LAYER | SQ_PF_NOSEARCH, .group = "pattern layers",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "",
+     .help = "in a layer: 0 changes nothing, 1 the full blend"},
 
     /* ---- outline ---- */
     {.name = "Has_Outline", .type = SQ_PT_BOOL, .offset = F(Has_Outline), .def = {0}, UNIT,

@@ -12,41 +12,64 @@
 
 enum { MAX_KEYS = 1000 };
 
+/* Where keys are looked up and how fields are named: the whole preset, or one pattern
+ * layer's object (its text span, and "Pattern_Layers[i]." before every name). */
 typedef struct Ctx {
     const char *text;
     size_t len;
     const char *name;
     SqError *err;
+    size_t from, to;    /* the span searched for keys' lines */
+    const char *prefix; /* "" or "Pattern_Layers[i]." */
 } Ctx;
 
-/* 1-based line of the `occurrence`-th (1-based) appearance of "key" used as an object
- * key (followed by optional white space and ':'), or 0 when not found. */
-static int key_line(const Ctx *c, const char *key, int occurrence)
+/* 1-based line of byte offset off. */
+static int line_of(const Ctx *c, size_t off)
+{
+    int line = 1;
+    for (size_t i = 0; i < off && i < c->len; i++)
+        line += c->text[i] == '\n';
+    return line;
+}
+
+/* Byte offset of the `occurrence`-th (1-based) appearance of "key" used as an object key
+ * (followed by optional white space and ':') inside the context's span; the offset just
+ * past the ':' goes to *after. (size_t)-1 when not found. */
+static size_t key_offset(const Ctx *c, const char *key, int occurrence, size_t *after)
 {
     size_t klen = strlen(key);
-    int line = 1, seen = 0;
-    for (size_t i = 0; i < c->len; i++) {
-        if (c->text[i] == '\n') {
-            line++;
-            continue;
-        }
-        if (c->text[i] != '"' || i + klen + 2 > c->len)
+    int seen = 0;
+    for (size_t i = c->from; i < c->to; i++) {
+        if (c->text[i] != '"' || i + klen + 2 > c->to)
             continue;
         if (memcmp(c->text + i + 1, key, klen) != 0 || c->text[i + 1 + klen] != '"')
             continue;
         size_t j = i + klen + 2;
-        while (j < c->len && (c->text[j] == ' ' || c->text[j] == '\t' || c->text[j] == '\r' ||
-                              c->text[j] == '\n'))
+        while (j < c->to && (c->text[j] == ' ' || c->text[j] == '\t' || c->text[j] == '\r' ||
+                             c->text[j] == '\n'))
             j++;
-        if (j < c->len && c->text[j] == ':' && ++seen == occurrence)
-            return line;
+        if (j < c->to && c->text[j] == ':' && ++seen == occurrence) {
+            if (after)
+                *after = j + 1;
+            return i;
+        }
     }
-    return 0;
+    return (size_t)-1;
+}
+
+/* 1-based line of a key (as key_offset finds it), or of the span's start inside a layer,
+ * or 0 when unknown. */
+static int key_line(const Ctx *c, const char *key, int occurrence)
+{
+    size_t off = key ? key_offset(c, key, occurrence, NULL) : (size_t)-1;
+    if (off != (size_t)-1)
+        return line_of(c, off);
+    return c->from > 0 ? line_of(c, c->from) : 0;
 }
 
 static const char *where_key(const Ctx *c, const char *key, int occurrence, char *buf, size_t n)
 {
-    int line = key ? key_line(c, key, occurrence) : 0;
+    int line = key_line(c, key, occurrence);
     if (line > 0)
         snprintf(buf, n, "%s:%d", c->name, line);
     else
@@ -90,19 +113,26 @@ static const char *range_hint(const SqParamSpec *s, char *buf, size_t n)
     return buf;
 }
 
+/* How messages call a field: its name, "Pattern_Layers[i]." before it inside a layer. */
+static void field_name(const Ctx *c, const SqParamSpec *s, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%s", c->prefix, s->name);
+}
+
 static SqStatus get_number(const Ctx *c, const SqParamSpec *s, const cJSON *v, const char *what,
                            double *out)
 {
-    char got[80], hint[80];
+    char got[80], hint[80], name[160];
+    field_name(c, s, name, sizeof name);
     if (!cJSON_IsNumber(v))
         return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s must be a number in [%.9g, %.9g], got %s",
-                    s->name, what, s->min, s->max, describe(v, got, sizeof got));
+                    name, what, s->min, s->max, describe(v, got, sizeof got));
     double d = v->valuedouble;
     if (!isfinite(d))
-        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is not a finite number", s->name, what);
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is not a finite number", name, what);
     if (d < s->min || d > s->max)
         return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is %.9g, outside its range [%.9g, %.9g]%s",
-                    s->name, what, d, s->min, s->max, range_hint(s, hint, sizeof hint));
+                    name, what, d, s->min, s->max, range_hint(s, hint, sizeof hint));
     *out = d;
     return SQ_OK;
 }
@@ -112,8 +142,9 @@ static SqStatus get_number(const Ctx *c, const SqParamSpec *s, const cJSON *v, c
 static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *obj, SqCa *ca)
 {
     static const char *const keys[] = {"initial", "type", "shift_mirror", "epochs", "rules", NULL};
-    char where[SQ_ERROR_WHERE_MAX], got[80];
+    char where[SQ_ERROR_WHERE_MAX], got[80], name[160];
     SqStatus st;
+    field_name(c, s, name, sizeof name);
     memset(ca, 0, sizeof *ca);
     where_key(c, s->name, 1, where, sizeof where);
 
@@ -125,11 +156,11 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
             return fail(c, SQ_ERR_INVALID, s->name,
                         "\"%s\" has an unknown key \"%.60s\" (keys: initial, type, "
                         "shift_mirror, epochs, rules)",
-                        s->name, it->string);
+                        name, it->string);
         for (const cJSON *o = it->next; o; o = o->next)
             if (strcmp(o->string, it->string) == 0)
                 return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" has the key \"%s\" twice",
-                            s->name, it->string);
+                            name, it->string);
     }
     const cJSON *initial = cJSON_GetObjectItemCaseSensitive(obj, "initial");
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(obj, "type");
@@ -140,7 +171,7 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
         return fail(c, SQ_ERR_INVALID, s->name,
                     "\"%s\" needs the keys initial, type, epochs and rules (shift_mirror is "
                     "optional)",
-                    s->name);
+                    name);
 
     if (cJSON_IsString(initial)) {
         if ((st = sq_ca_parse_row(initial->valuestring, ca, where, c->err)) != SQ_OK)
@@ -149,19 +180,19 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
         int n = cJSON_GetArraySize(initial);
         if (n > SQ_CA_MAX_CELLS)
             return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\".initial has more than %d cells",
-                        s->name, SQ_CA_MAX_CELLS);
+                        name, SQ_CA_MAX_CELLS);
         ca->ncells = 0;
         for (const cJSON *b = initial->child; b; b = b->next) {
             if (!cJSON_IsNumber(b) || (b->valuedouble != 0 && b->valuedouble != 1))
                 return fail(c, SQ_ERR_INVALID, s->name,
-                            "\"%s\".initial must hold only 0 and 1, got %s", s->name,
+                            "\"%s\".initial must hold only 0 and 1, got %s", name,
                             describe(b, got, sizeof got));
             ca->cells[ca->ncells++] = (uint8_t)b->valuedouble;
         }
     } else {
         return fail(c, SQ_ERR_INVALID, s->name,
                     "\"%s\".initial must be a string of 0s and 1s or an array, got %s",
-                    s->name, describe(initial, got, sizeof got));
+                    name, describe(initial, got, sizeof got));
     }
 
     if (cJSON_IsString(type) && strcmp(type->valuestring, "rectangular") == 0)
@@ -170,21 +201,21 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
         ca->type = SQ_CA_TRIANGULAR;
     else
         return fail(c, SQ_ERR_INVALID, s->name,
-                    "\"%s\".type must be \"rectangular\" or \"triangular\", got %s", s->name,
+                    "\"%s\".type must be \"rectangular\" or \"triangular\", got %s", name,
                     describe(type, got, sizeof got));
 
     if (shift) {
         if (!cJSON_IsNumber(shift) || shift->valuedouble != floor(shift->valuedouble) ||
             fabs(shift->valuedouble) > SQ_CA_MAX_SHIFT)
             return fail(c, SQ_ERR_INVALID, s->name,
-                        "\"%s\".shift_mirror must be an integer in [%d, %d], got %s", s->name,
+                        "\"%s\".shift_mirror must be an integer in [%d, %d], got %s", name,
                         -SQ_CA_MAX_SHIFT, SQ_CA_MAX_SHIFT, describe(shift, got, sizeof got));
         ca->shift_mirror = (int)shift->valuedouble;
     }
     if (!cJSON_IsNumber(epochs) || epochs->valuedouble != floor(epochs->valuedouble) ||
         epochs->valuedouble < 1 || epochs->valuedouble > SQ_CA_MAX_EPOCHS)
         return fail(c, SQ_ERR_INVALID, s->name,
-                    "\"%s\".epochs must be an integer in [1, %d], got %s", s->name,
+                    "\"%s\".epochs must be an integer in [1, %d], got %s", name,
                     SQ_CA_MAX_EPOCHS, describe(epochs, got, sizeof got));
     ca->epochs = (int)epochs->valuedouble;
 
@@ -192,14 +223,14 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
         return fail(c, SQ_ERR_INVALID, s->name,
                     "\"%s\".rules must be a non-empty array of rules like \"1110 1\" or "
                     "\"1000 x\", got %s",
-                    s->name, describe(rules, got, sizeof got));
+                    name, describe(rules, got, sizeof got));
     if (cJSON_GetArraySize(rules) > SQ_CA_MAX_RULES)
-        return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\" has more than %d rules", s->name,
+        return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\" has more than %d rules", name,
                     SQ_CA_MAX_RULES);
     for (const cJSON *r = rules->child; r; r = r->next) {
         if (!cJSON_IsString(r))
             return fail(c, SQ_ERR_INVALID, s->name,
-                        "\"%s\".rules must hold strings like \"1110 1\", got %s", s->name,
+                        "\"%s\".rules must hold strings like \"1110 1\", got %s", name,
                         describe(r, got, sizeof got));
         if ((st = sq_ca_parse_rule(r->valuestring, ca->type, &ca->rules[ca->nrules], where,
                                    c->err)) != SQ_OK)
@@ -209,12 +240,16 @@ static SqStatus ca_from_object(const Ctx *c, const SqParamSpec *s, const cJSON *
     return sq_ca_validate(ca, where, c->err);
 }
 
-static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, SqParams *p)
+static SqStatus layers_from_array(const Ctx *c, const SqParamSpec *s, const cJSON *v,
+                                  SqPatternLayers *ls);
+
+/* Sets the field f (of SqParams or of a pattern layer) described by s from v. */
+static SqStatus set_field(const Ctx *c, const SqParamSpec *s, const cJSON *v, void *f)
 {
-    void *f = sq_param_ptr(p, s);
-    char got[80], what[32];
+    char got[80], what[32], name[160];
     SqStatus st;
     double d;
+    field_name(c, s, name, sizeof name);
 
     switch (s->type) {
     case SQ_PT_FLOAT:
@@ -223,14 +258,14 @@ static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, Sq
         if (cJSON_IsNumber(v) && isfinite(v->valuedouble) &&
             v->valuedouble != floor(v->valuedouble))
             return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be an integer in [%.9g, %.9g], got %.9g",
-                        s->name, s->min, s->max, v->valuedouble);
+                        name, s->min, s->max, v->valuedouble);
         if ((st = get_number(c, s, v, "", &d)) != SQ_OK)
             return st;
         *(int *)f = (int)d;
         return SQ_OK;
     case SQ_PT_BOOL:
         if (!cJSON_IsBool(v))
-            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be true or false, got %s", s->name,
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be true or false, got %s", name,
                         describe(v, got, sizeof got));
         *(int *)f = cJSON_IsTrue(v) ? 1 : 0;
         return SQ_OK;
@@ -247,7 +282,7 @@ static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, Sq
                 strncat(list, k ? ", " : "", sizeof list - strlen(list) - 1);
                 strncat(list, s->choices[k], sizeof list - strlen(list) - 1);
             }
-            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be one of %s; got %s", s->name, list,
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be one of %s; got %s", name, list,
                         describe(v, got, sizeof got));
         }
     case SQ_PT_VEC2:
@@ -257,7 +292,7 @@ static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, Sq
         int ok = s->type == SQ_PT_VEC2 ? n == 2 : (n == 3 || n == 4);
         if (!ok)
             return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be %s with components in [%.9g, %.9g], got %s",
-                        s->name,
+                        name,
                         s->type == SQ_PT_VEC2 ? "an array [x, y]" : "an array [r, g, b, a] (or [r, g, b])",
                         s->min, s->max, describe(v, got, sizeof got));
         double tmp[4] = {0, 0, 0, 1};
@@ -272,18 +307,146 @@ static SqStatus set_param(const Ctx *c, const SqParamSpec *s, const cJSON *v, Sq
     }
     case SQ_PT_CA:
         if (cJSON_IsString(v)) {
-            char where[SQ_ERROR_WHERE_MAX], name[SQ_ERROR_WHERE_MAX + 64];
+            char where[SQ_ERROR_WHERE_MAX], text_name[SQ_ERROR_WHERE_MAX + 200];
             where_key(c, s->name, 1, where, sizeof where);
-            snprintf(name, sizeof name, "%s, %s text line", where, s->name);
-            return sq_ca_parse(v->valuestring, strlen(v->valuestring), name, f, c->err);
+            snprintf(text_name, sizeof text_name, "%s, %s text line", where, name);
+            return sq_ca_parse(v->valuestring, strlen(v->valuestring), text_name, f, c->err);
         }
         if (cJSON_IsObject(v))
             return ca_from_object(c, s, v, f);
         return fail(c, SQ_ERR_INVALID, s->name,
-                    "\"%s\" must be descriptor text (a string) or an object, got %s", s->name,
+                    "\"%s\" must be descriptor text (a string) or an object, got %s", name,
                     describe(v, got, sizeof got));
+    case SQ_PT_LAYERS:
+        return layers_from_array(c, s, v, f);
     }
-    return fail(c, SQ_ERR_INTERNAL, s->name, "parameter \"%s\" has an unknown type", s->name);
+    return fail(c, SQ_ERR_INTERNAL, s->name, "parameter \"%s\" has an unknown type", name);
+}
+
+/* ---- pattern layers: an array of objects, each parsed by the same table rows ---- */
+
+/* Skips white space from i (bounded by the context's span). */
+static size_t skip_space(const Ctx *c, size_t i)
+{
+    while (i < c->to && (c->text[i] == ' ' || c->text[i] == '\t' || c->text[i] == '\r' ||
+                         c->text[i] == '\n'))
+        i++;
+    return i;
+}
+
+/* The text span [*from, *to) of element k of the JSON array that starts at or after
+ * offset `at` (already parsed, so well formed; bounds are checked all the same). Used
+ * only to name lines in messages: on any surprise the whole span of c is kept. */
+static void element_span(const Ctx *c, size_t at, int k, size_t *from, size_t *to)
+{
+    *from = c->from;
+    *to = c->to;
+    size_t i = skip_space(c, at);
+    if (i >= c->to || c->text[i] != '[')
+        return;
+    int depth = 0, idx = 0, in_str = 0;
+    size_t start = skip_space(c, i + 1);
+    for (; i < c->to; i++) {
+        char ch = c->text[i];
+        if (in_str) {
+            if (ch == '\\')
+                i++;
+            else if (ch == '"')
+                in_str = 0;
+            continue;
+        }
+        if (ch == '"') {
+            in_str = 1;
+        } else if (ch == '[' || ch == '{') {
+            depth++;
+        } else if (ch == ']' || ch == '}' || (ch == ',' && depth == 1)) {
+            if (depth == 1) { /* the end of element idx */
+                if (idx == k) {
+                    *from = start;
+                    *to = i;
+                    return;
+                }
+                idx++;
+                start = skip_space(c, i + 1);
+            }
+            if (ch != ',')
+                depth--;
+            if (depth == 0)
+                return;
+        }
+    }
+}
+
+static SqStatus layer_from_object(const Ctx *c, int k, const cJSON *obj, SqPatternLayer *l)
+{
+    char got[80];
+    int nkeys = 0;
+    sq_pattern_layer_default(l);
+    if (!cJSON_IsObject(obj))
+        return fail(c, SQ_ERR_INVALID, NULL,
+                    "Pattern_Layers[%d] must be an object of pattern parameters "
+                    "(Pattern_Type, Layer_Blend, Layer_Opacity, ...), got %s",
+                    k, describe(obj, got, sizeof got));
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        if (++nkeys > MAX_KEYS)
+            return fail(c, SQ_ERR_LIMIT, NULL, "Pattern_Layers[%d] has more than %d keys", k,
+                        MAX_KEYS);
+        for (const cJSON *o = it->next; o; o = o->next)
+            if (strcmp(o->string, it->string) == 0) {
+                char where[SQ_ERROR_WHERE_MAX];
+                return sq_error_set(c->err, SQ_ERR_INVALID,
+                                    where_key(c, it->string, 2, where, sizeof where),
+                                    "Pattern_Layers[%d] has the key \"%.100s\" twice", k,
+                                    it->string);
+            }
+        const SqParamSpec *s = sq_params_find(it->string);
+        if (!s)
+            return fail(c, SQ_ERR_INVALID, it->string,
+                        "Pattern_Layers[%d] has an unknown key \"%.100s\" (did you mean "
+                        "\"%s\"?)",
+                        k, it->string, sq_params_closest(it->string)->name);
+        if (!sq_param_in_layer(s))
+            return fail(c, SQ_ERR_INVALID, it->string,
+                        "\"%s\" (group %s) cannot be set in Pattern_Layers[%d]: a layer takes "
+                        "only Pattern_Type, the pattern groups' parameters, Layer_Blend and "
+                        "Layer_Opacity",
+                        s->name, s->group, k);
+        SqStatus st = set_field(c, s, it, sq_param_layer_ptr(l, s));
+        if (st != SQ_OK)
+            return st;
+    }
+    return SQ_OK;
+}
+
+static SqStatus layers_from_array(const Ctx *c, const SqParamSpec *s, const cJSON *v,
+                                  SqPatternLayers *ls)
+{
+    char got[80];
+    if (!cJSON_IsArray(v))
+        return fail(c, SQ_ERR_INVALID, s->name,
+                    "\"%s\" must be an array of layer objects, got %s", s->name,
+                    describe(v, got, sizeof got));
+    int n = cJSON_GetArraySize(v);
+    if (n > SQ_MAX_PATTERN_LAYERS)
+        return fail(c, SQ_ERR_LIMIT, s->name, "\"%s\" has %d layers; at most %d are allowed",
+                    s->name, n, SQ_MAX_PATTERN_LAYERS);
+    size_t value_at = 0;
+    if (key_offset(c, s->name, 1, &value_at) == (size_t)-1)
+        value_at = c->to; /* no span: lines are not named */
+    ls->count = 0;
+    int k = 0;
+    for (const cJSON *e = v->child; e; e = e->next, k++) {
+        char prefix[64];
+        snprintf(prefix, sizeof prefix, "%s[%d].", s->name, k);
+        Ctx sub = *c;
+        sub.prefix = prefix;
+        element_span(c, value_at, k, &sub.from, &sub.to);
+        SqStatus st = layer_from_object(&sub, k, e, &ls->layer[k]);
+        if (st != SQ_OK)
+            return st;
+    }
+    ls->count = n;
+    return SQ_OK;
 }
 
 static SqStatus copy_string(const Ctx *c, const cJSON *v, const char *key, char *dst, size_t n)
@@ -359,7 +522,12 @@ static SqStatus parse_root(const Ctx *c, const cJSON *root, SqParams *out, SqPre
                 return fail(c, SQ_ERR_INVALID, it->string,
                             "unknown key \"%.100s\" (did you mean \"%s\"?)", it->string,
                             sq_params_closest(it->string)->name);
-            if ((st = set_param(c, s, it, out)) != SQ_OK)
+            if (s->flags & SQ_PF_LAYER)
+                return fail(c, SQ_ERR_INVALID, it->string,
+                            "\"%s\" belongs inside a layer of \"Pattern_Layers\", not at the "
+                            "top level",
+                            s->name);
+            if ((st = set_field(c, s, it, sq_param_ptr(out, s))) != SQ_OK)
                 return st;
         }
     }
@@ -375,7 +543,7 @@ static SqStatus parse_root(const Ctx *c, const cJSON *root, SqParams *out, SqPre
 SqStatus sq_preset_parse(const char *text, size_t len, const char *name, SqParams *out,
                          SqPresetInfo *info, SqError *err)
 {
-    Ctx c = {text, len, name ? name : "preset", err};
+    Ctx c = {text, len, name ? name : "preset", err, 0, len, ""};
     if (len > SQ_PRESET_MAX_BYTES)
         return fail(&c, SQ_ERR_LIMIT, NULL, "preset larger than %d bytes", SQ_PRESET_MAX_BYTES);
     if (memchr(text, '\0', len))
@@ -464,6 +632,63 @@ static cJSON *ca_to_object(const SqCa *ca)
     return o;
 }
 
+static cJSON *field_to_json(const void *f, const SqParamSpec *s);
+
+/* A layer's object: Pattern_Type, its blend and opacity first, then every other pattern
+ * parameter in table order. */
+static cJSON *layers_to_array(const SqPatternLayers *ls)
+{
+    static const char *const first[] = {"Pattern_Type", "Layer_Blend", "Layer_Opacity", NULL};
+    size_t n;
+    const SqParamSpec *t = sq_params_table(&n);
+    cJSON *arr = cJSON_CreateArray();
+    for (int k = 0; arr && k < ls->count; k++) {
+        const SqPatternLayer *l = &ls->layer[k];
+        cJSON *o = cJSON_CreateObject();
+        if (!o || !cJSON_AddItemToArray(arr, o))
+            goto nomem;
+        for (int pass = 0; pass < 2; pass++)
+            for (size_t i = 0; i < n; i++) {
+                if (!sq_param_in_layer(&t[i]))
+                    continue;
+                int is_first = 0;
+                for (int j = 0; first[j]; j++)
+                    is_first |= strcmp(t[i].name, first[j]) == 0;
+                if (is_first != (pass == 0))
+                    continue;
+                cJSON *v = field_to_json(sq_param_layer_cptr(l, &t[i]), &t[i]);
+                if (!v || !cJSON_AddItemToObject(o, t[i].name, v)) {
+                    cJSON_Delete(v);
+                    goto nomem;
+                }
+            }
+    }
+    return arr;
+nomem:
+    cJSON_Delete(arr);
+    return NULL;
+}
+
+static cJSON *field_to_json(const void *f, const SqParamSpec *s)
+{
+    cJSON *v = NULL;
+    switch (s->type) {
+    case SQ_PT_FLOAT: v = sq__json_exact_number(*(const double *)f); break;
+    case SQ_PT_INT: v = cJSON_CreateNumber(*(const int *)f); break;
+    case SQ_PT_BOOL: v = cJSON_CreateBool(*(const int *)f); break;
+    case SQ_PT_ENUM: v = cJSON_CreateString(s->choices[*(const int *)f]); break;
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR:
+        v = cJSON_CreateArray();
+        for (int c = 0; v && c < sq_param_components(s->type); c++)
+            cJSON_AddItemToArray(v, sq__json_exact_number(((const double *)f)[c]));
+        break;
+    case SQ_PT_CA: v = ca_to_object(f); break;
+    case SQ_PT_LAYERS: v = layers_to_array(f); break;
+    }
+    return v;
+}
+
 char *sq_preset_to_json(const SqParams *p, const SqPresetInfo *info, SqError *err)
 {
     SqStatus st = sq_params_validate(p, err);
@@ -480,21 +705,9 @@ char *sq_preset_to_json(const SqParams *p, const SqPresetInfo *info, SqError *er
     if (info && info->notes[0])
         cJSON_AddStringToObject(root, "notes", info->notes);
     for (size_t i = 0; i < n; i++) {
-        const void *f = sq_param_cptr(p, &t[i]);
-        cJSON *v = NULL;
-        switch (t[i].type) {
-        case SQ_PT_FLOAT: v = sq__json_exact_number(*(const double *)f); break;
-        case SQ_PT_INT: v = cJSON_CreateNumber(*(const int *)f); break;
-        case SQ_PT_BOOL: v = cJSON_CreateBool(*(const int *)f); break;
-        case SQ_PT_ENUM: v = cJSON_CreateString(t[i].choices[*(const int *)f]); break;
-        case SQ_PT_VEC2:
-        case SQ_PT_COLOR:
-            v = cJSON_CreateArray();
-            for (int c = 0; v && c < sq_param_components(t[i].type); c++)
-                cJSON_AddItemToArray(v, sq__json_exact_number(((const double *)f)[c]));
-            break;
-        case SQ_PT_CA: v = ca_to_object(f); break;
-        }
+        if (t[i].flags & SQ_PF_LAYER) /* written inside each layer */
+            continue;
+        cJSON *v = field_to_json(sq_param_cptr(p, &t[i]), &t[i]);
         if (!v)
             goto nomem;
         cJSON_AddItemToObject(root, t[i].name, v);

@@ -37,45 +37,222 @@ void sq_gen_textures_free(SqTextures *t)
     sq_image_free(&t->normal);
 }
 
-/* The colour map (§4.2, §4.1 step 3): the background with its noise, the pattern over
- * it. The pattern is sampled through the warp's displacement; patterns made only of
- * stripe profiles are sampled from the profiles, with no pattern image at all. */
+/* A pattern ready to be sampled row by row: its coverage layers (or, with an outline,
+ * their premultiplied image) and its warp. The base pattern is one; each pattern layer
+ * of the preset is another. */
+typedef struct PatternSource {
+    SqPattern pat;
+    SqWarp warp;
+    SqLerp wx, wy;         /* the warp grid interpolated to pixels */
+    float *rgba;           /* premultiplied pattern image (outline only) */
+    int sample_layers;     /* the coverage layers are sampled directly */
+    int blend;             /* pattern layers: SqLayerBlend */
+    float opacity;         /* pattern layers: Layer_Opacity */
+} PatternSource;
+
+static void source_free(PatternSource *s)
+{
+    sq__lerp_free(&s->wx);
+    sq__lerp_free(&s->wy);
+    sq__pattern_free(&s->pat);
+    sq__warp_free(&s->warp);
+    sq__ffree(s->rgba);
+    memset(s, 0, sizeof *s);
+}
+
+/* Makes the pattern of q's pattern parameters: its layers, post-process, outline (when q
+ * has one) and warp field. The colour map samples it through the warp; patterns made
+ * only of stripe profiles are sampled from the profiles, with no pattern image at all. */
+static SqStatus source_make(const SqParams *q, const float *height, int w, int h,
+                            PatternSource *s, SqError *err)
+{
+    SqStatus st = SQ_OK;
+    s->pat.w = w;
+    s->pat.h = h;
+    if (q->Pattern_RotatePattern90Degrees) { /* generated on its side, rotated after */
+        s->pat.w = h;
+        s->pat.h = w;
+    }
+    switch (q->Pattern_Type) {
+    case SQ_PATTERN_TRANSVERSAL: st = sq__pattern_transversal(q, &s->pat, err); break;
+    case SQ_PATTERN_LONGITUDINAL: st = sq__pattern_longitudinal(q, &s->pat, err); break;
+    case SQ_PATTERN_SPOTS: st = sq__pattern_spots(q, &s->pat, err); break;
+    case SQ_PATTERN_OTHER_SIMPLE: st = sq__pattern_ca(q, &s->pat, err); break;
+    case SQ_PATTERN_COMPLEX: st = sq__pattern_rd(q, &s->pat, err); break;
+    default: break;
+    }
+    if (st == SQ_OK)
+        st = sq__pattern_postprocess(q, &s->pat, err);
+    /* without an outline the layers are sampled where the colour map needs them; the
+     * outline needs the pattern as an image */
+    s->sample_layers = s->pat.n > 0 && !q->Has_Outline;
+    if (st == SQ_OK && s->pat.n > 0 && !s->sample_layers) {
+        if (!(s->rgba = sq__falloc_raw((size_t)w * h * 4)))
+            st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the pattern");
+        else
+            sq__pattern_composite(&s->pat, s->rgba);
+        if (st == SQ_OK && q->Has_Outline)
+            st = sq__outline(q, s->rgba, height, w, h, err);
+    }
+    if (st == SQ_OK && s->pat.n > 0)
+        st = sq__warp_field(q, w, h, &s->warp, err);
+    if (st == SQ_OK && s->warp.dx &&
+        (sq__lerp_init(&s->wx, w, s->warp.gw) || sq__lerp_init(&s->wy, h, s->warp.gh)))
+        st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the warp");
+    return st;
+}
+
+/* Row y of a pattern, premultiplied, into pr, pg, pb, pa: the displaced coordinates
+ * (fxs, fys; rowx, rowy hold the warp grid's row), then the pattern sampled there. */
+static void source_row(const PatternSource *s, int y, int w, int h, float *fxs, float *fys,
+                       float *rowx, float *rowy, float *pr, float *pg, float *pb, float *pa)
+{
+    const SqPattern *pat = &s->pat;
+    const SqWarp *warp = &s->warp;
+    const SqLerp *wx = &s->wx, *wy = &s->wy;
+    const int gw = warp->gw;
+    if (warp->dx) {
+        const float *dx0 = warp->dx + (size_t)wy->i0[y] * gw, *dx1 = warp->dx + (size_t)wy->i1[y] * gw;
+        const float *dy0 = warp->dy + (size_t)wy->i0[y] * gw, *dy1 = warp->dy + (size_t)wy->i1[y] * gw;
+        const float ty = wy->t[y];
+        for (int g = 0; g < gw; g++) {
+            rowx[g] = dx0[g] + (dx1[g] - dx0[g]) * ty;
+            rowy[g] = dy0[g] + (dy1[g] - dy0[g]) * ty;
+        }
+        for (int x = 0; x < w; x++) {
+            const int a = wx->i0[x], c = wx->i1[x];
+            fxs[x] = (float)x + rowx[a] + (rowx[c] - rowx[a]) * wx->t[x];
+            fys[x] = (float)y + rowy[a] + (rowy[c] - rowy[a]) * wx->t[x];
+        }
+    } else {
+        for (int x = 0; x < w; x++) {
+            fxs[x] = (float)x;
+            fys[x] = (float)y;
+        }
+    }
+    for (int x = 0; x < w; x++)
+        pr[x] = pg[x] = pb[x] = pa[x] = 0.0f;
+    if (s->sample_layers && !warp->dx) { /* profiles read directly */
+        for (int li = 0; li < pat->n; li++) {
+            const SqLayer *l = &pat->layers[li];
+            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
+            if (l->kind == SQ_LAYER_COLS || l->kind == SQ_LAYER_2D) {
+                const float *cv = l->cov + (l->kind == SQ_LAYER_2D ? (size_t)y * w : 0);
+                for (int x = 0; x < w; x++) {
+                    float al = cv[x] * lo, k = 1.0f - al;
+                    pr[x] = lr * al + pr[x] * k;
+                    pg[x] = lg * al + pg[x] * k;
+                    pb[x] = lb * al + pb[x] * k;
+                    pa[x] = al + pa[x] * k;
+                }
+            } else {
+                const float al = (l->kind == SQ_LAYER_ROWS ? l->cov[y] : 1.0f) * lo, k = 1.0f - al;
+                for (int x = 0; x < w; x++) {
+                    pr[x] = lr * al + pr[x] * k;
+                    pg[x] = lg * al + pg[x] * k;
+                    pb[x] = lb * al + pb[x] * k;
+                    pa[x] = al + pa[x] * k;
+                }
+            }
+        }
+    } else if (s->sample_layers) {
+        for (int li = 0; li < pat->n; li++) {
+            const SqLayer *l = &pat->layers[li];
+            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
+            for (int x = 0; x < w; x++) {
+                float cov = l->kind == SQ_LAYER_COLS   ? sq__profile_at(l->cov, pat->w, fxs[x])
+                            : l->kind == SQ_LAYER_ROWS ? sq__profile_at(l->cov, pat->h, fys[x])
+                            : l->kind == SQ_LAYER_2D   ? sq__sample(l->cov, w, h, 1, 0, fxs[x], fys[x])
+                                                       : 1.0f;
+                float al = cov * lo, k = 1.0f - al;
+                pr[x] = lr * al + pr[x] * k;
+                pg[x] = lg * al + pg[x] * k;
+                pb[x] = lb * al + pb[x] * k;
+                pa[x] = al + pa[x] * k;
+            }
+        }
+    } else if (s->rgba) {
+        for (int x = 0; x < w; x++) {
+            float c4[4];
+            if (warp->dx) {
+                for (int c = 0; c < 4; c++)
+                    c4[c] = sq__sample(s->rgba, w, h, 4, c, fxs[x], fys[x]);
+            } else {
+                memcpy(c4, s->rgba + ((size_t)y * w + x) * 4, sizeof c4);
+            }
+            pr[x] = c4[0];
+            pg[x] = c4[1];
+            pb[x] = c4[2];
+            pa[x] = c4[3];
+        }
+    }
+}
+
+/* Blends a pattern layer's premultiplied row (pr, pg, pb, pa) over the colour row `out`
+ * (RGB, opaque) with its mode and opacity: out (1 - a) + B(out, colour) a, the W3C
+ * separable blend modes written on premultiplied values, so no division by coverage. */
+static void blend_row(const PatternSource *s, float *out, int w, const float *pr,
+                      const float *pg, const float *pb, const float *pa)
+{
+    const float o = s->opacity;
+    for (int x = 0; x < w; x++) {
+        const float a = pa[x] * o;
+        if (a <= 0.0f)
+            continue;
+        const float l[3] = {pr[x] * o, pg[x] * o, pb[x] * o};
+        float *px = out + 3 * x;
+        for (int c = 0; c < 3; c++) {
+            const float cb = px[c];
+            float v;
+            switch (s->blend) {
+            case SQ_BLEND_MULTIPLY: v = cb * (1.0f - a) + cb * l[c]; break;
+            case SQ_BLEND_SCREEN: v = cb + l[c] - cb * l[c]; break;
+            case SQ_BLEND_OVERLAY:
+                v = cb * (1.0f - a) +
+                    (cb <= 0.5f ? 2.0f * cb * l[c] : a - 2.0f * (1.0f - cb) * (a - l[c]));
+                break;
+            default: v = cb * (1.0f - a) + l[c]; break;
+            }
+            px[c] = sq__clamp01(v);
+        }
+    }
+}
+
+/* The parameters of pattern layer k: p with the layer's pattern, no outline (the outline
+ * belongs to the base pattern) and a seed of its own, from Seed and k. */
+static void layer_params(const SqParams *p, int k, SqParams *q)
+{
+    *q = *p;
+    q->pattern = p->Pattern_Layers.layer[k].spec;
+    q->Has_Outline = 0;
+    q->Seed = (int)(sq__hash((uint64_t)p->Seed, SQ_STREAM_LAYER, (uint64_t)k) & 0x7fffffff);
+    q->Pattern_Layers.count = 0;
+}
+
+/* The colour map (§4.2, §4.1 step 3): the background with its noise, the base pattern over
+ * it, then each pattern layer blended over what is below it. */
 static SqStatus render_color(const SqParams *p, const float *height, float *col, int w, int h,
                              SqGenTimings *tm, SqError *err)
 {
     double t0 = now_ms();
-    const size_t n = (size_t)w * h;
-    SqPattern pat = {.w = w, .h = h};
-    SqWarp warp = {0};
-    float *rgba = NULL, *noise = NULL;
-    SqStatus st = SQ_OK;
-    if (p->Pattern_RotatePattern90Degrees) { /* generated on its side, rotated after */
-        pat.w = h;
-        pat.h = w;
+    PatternSource src[1 + SQ_MAX_PATTERN_LAYERS];
+    int nsrc = 0;
+    float *noise = NULL;
+    memset(src, 0, sizeof src);
+    SqStatus st = source_make(p, height, w, h, &src[nsrc++], err);
+    for (int k = 0; st == SQ_OK && k < p->Pattern_Layers.count; k++) {
+        const SqPatternLayer *l = &p->Pattern_Layers.layer[k];
+        if (l->spec.Pattern_Type == SQ_PATTERN_NONE || l->Layer_Opacity <= 0)
+            continue; /* changes nothing */
+        SqParams q;
+        layer_params(p, k, &q);
+        PatternSource *s = &src[nsrc++];
+        s->blend = l->Layer_Blend;
+        s->opacity = (float)l->Layer_Opacity;
+        st = source_make(&q, height, w, h, s, err);
+        if (st == SQ_OK && s->pat.n == 0) /* a pattern with nothing drawn */
+            source_free(&src[--nsrc]);
     }
-    switch (p->Pattern_Type) {
-    case SQ_PATTERN_TRANSVERSAL: st = sq__pattern_transversal(p, &pat, err); break;
-    case SQ_PATTERN_LONGITUDINAL: st = sq__pattern_longitudinal(p, &pat, err); break;
-    case SQ_PATTERN_SPOTS: st = sq__pattern_spots(p, &pat, err); break;
-    case SQ_PATTERN_OTHER_SIMPLE: st = sq__pattern_ca(p, &pat, err); break;
-    case SQ_PATTERN_COMPLEX: st = sq__pattern_rd(p, &pat, err); break;
-    default: break;
-    }
-    if (st == SQ_OK)
-        st = sq__pattern_postprocess(p, &pat, err);
-    /* without an outline the layers are sampled where the colour map needs them; the
-     * outline needs the pattern as an image */
-    const int sample_layers = pat.n > 0 && !p->Has_Outline;
-    if (st == SQ_OK && pat.n > 0 && !sample_layers) {
-        if (!(rgba = sq__falloc_raw(n * 4)))
-            st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the pattern");
-        else
-            sq__pattern_composite(&pat, rgba);
-        if (st == SQ_OK && p->Has_Outline)
-            st = sq__outline(p, rgba, height, w, h, err);
-    }
-    if (st == SQ_OK && pat.n > 0)
-        st = sq__warp_field(p, w, h, &warp, err);
     /* the colour noise is smooth (its finest octave has 32 cells): made at no more than
      * 256 pixels across and interpolated */
     const float ni = (float)p->Color_NoiseIntensity;
@@ -87,18 +264,18 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
             sq__lerp_init(&nx, w, nw) || sq__lerp_init(&ny, h, nh))
             st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the colour noise");
     }
-    SqLerp wx = {0}, wy = {0};
     tm->pattern = now_ms() - t0;
     t0 = now_ms();
-    if (st == SQ_OK && warp.dx && (sq__lerp_init(&wx, w, warp.gw) || sq__lerp_init(&wy, h, warp.gh)))
-        st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the warp");
     if (st == SQ_OK) {
         const float bg[3] = {(float)p->Background_Color[0], (float)p->Background_Color[1],
                              (float)p->Background_Color[2]};
-        const int gw = warp.dx ? warp.gw : 1;
+        int gw = 1;
+        for (int i = 0; i < nsrc; i++)
+            if (src[i].warp.dx && src[i].warp.gw > gw)
+                gw = src[i].warp.gw;
         int failed = 0;
         /* Row by row, in simple passes over arrays: the displaced coordinates, the pattern,
-         * the noise, then the composition. */
+         * the noise, then the composition; then each layer's row, blended over it. */
 #pragma omp parallel
         {
             float *buf = malloc(sizeof(float) * ((size_t)7 * w + 2 * (size_t)gw + (size_t)nw));
@@ -112,81 +289,7 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
                       *pa = pb + w, *nf = pa + w, *rowx = nf + w, *rowy = rowx + gw, *nrow = rowy + gw;
 #pragma omp for schedule(static)
                 for (int y = 0; y < h; y++) {
-                    if (warp.dx) {
-                        const float *dx0 = warp.dx + (size_t)wy.i0[y] * gw, *dx1 = warp.dx + (size_t)wy.i1[y] * gw;
-                        const float *dy0 = warp.dy + (size_t)wy.i0[y] * gw, *dy1 = warp.dy + (size_t)wy.i1[y] * gw;
-                        const float ty = wy.t[y];
-                        for (int g = 0; g < gw; g++) {
-                            rowx[g] = dx0[g] + (dx1[g] - dx0[g]) * ty;
-                            rowy[g] = dy0[g] + (dy1[g] - dy0[g]) * ty;
-                        }
-                        for (int x = 0; x < w; x++) {
-                            const int a = wx.i0[x], c = wx.i1[x];
-                            fxs[x] = (float)x + rowx[a] + (rowx[c] - rowx[a]) * wx.t[x];
-                            fys[x] = (float)y + rowy[a] + (rowy[c] - rowy[a]) * wx.t[x];
-                        }
-                    } else {
-                        for (int x = 0; x < w; x++) {
-                            fxs[x] = (float)x;
-                            fys[x] = (float)y;
-                        }
-                    }
-                    for (int x = 0; x < w; x++)
-                        pr[x] = pg[x] = pb[x] = pa[x] = 0.0f;
-                    if (sample_layers && !warp.dx) { /* profiles read directly */
-                        for (int li = 0; li < pat.n; li++) {
-                            const SqLayer *l = &pat.layers[li];
-                            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
-                            if (l->kind == SQ_LAYER_COLS || l->kind == SQ_LAYER_2D) {
-                                const float *cv = l->cov + (l->kind == SQ_LAYER_2D ? (size_t)y * w : 0);
-                                for (int x = 0; x < w; x++) {
-                                    float al = cv[x] * lo, k = 1.0f - al;
-                                    pr[x] = lr * al + pr[x] * k;
-                                    pg[x] = lg * al + pg[x] * k;
-                                    pb[x] = lb * al + pb[x] * k;
-                                    pa[x] = al + pa[x] * k;
-                                }
-                            } else {
-                                const float al = (l->kind == SQ_LAYER_ROWS ? l->cov[y] : 1.0f) * lo, k = 1.0f - al;
-                                for (int x = 0; x < w; x++) {
-                                    pr[x] = lr * al + pr[x] * k;
-                                    pg[x] = lg * al + pg[x] * k;
-                                    pb[x] = lb * al + pb[x] * k;
-                                    pa[x] = al + pa[x] * k;
-                                }
-                            }
-                        }
-                    } else if (sample_layers) {
-                        for (int li = 0; li < pat.n; li++) {
-                            const SqLayer *l = &pat.layers[li];
-                            const float lr = l->color[0], lg = l->color[1], lb = l->color[2], lo = l->color[3];
-                            for (int x = 0; x < w; x++) {
-                                float cov = l->kind == SQ_LAYER_COLS   ? sq__profile_at(l->cov, pat.w, fxs[x])
-                                            : l->kind == SQ_LAYER_ROWS ? sq__profile_at(l->cov, pat.h, fys[x])
-                                            : l->kind == SQ_LAYER_2D   ? sq__sample(l->cov, w, h, 1, 0, fxs[x], fys[x])
-                                                                       : 1.0f;
-                                float al = cov * lo, k = 1.0f - al;
-                                pr[x] = lr * al + pr[x] * k;
-                                pg[x] = lg * al + pg[x] * k;
-                                pb[x] = lb * al + pb[x] * k;
-                                pa[x] = al + pa[x] * k;
-                            }
-                        }
-                    } else if (rgba) {
-                        for (int x = 0; x < w; x++) {
-                            float c4[4];
-                            if (warp.dx) {
-                                for (int c = 0; c < 4; c++)
-                                    c4[c] = sq__sample(rgba, w, h, 4, c, fxs[x], fys[x]);
-                            } else {
-                                memcpy(c4, rgba + ((size_t)y * w + x) * 4, sizeof c4);
-                            }
-                            pr[x] = c4[0];
-                            pg[x] = c4[1];
-                            pb[x] = c4[2];
-                            pa[x] = c4[3];
-                        }
-                    }
+                    source_row(&src[0], y, w, h, fxs, fys, rowx, rowy, pr, pg, pb, pa);
                     if (noise) {
                         const float *n0 = noise + (size_t)ny.i0[y] * nw, *n1 = noise + (size_t)ny.i1[y] * nw;
                         const float ty = ny.t[y];
@@ -207,6 +310,10 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
                         out[3 * x + 1] = sq__clamp01(bg[1] * k + pg[x]);
                         out[3 * x + 2] = sq__clamp01(bg[2] * k + pb[x]);
                     }
+                    for (int i = 1; i < nsrc; i++) {
+                        source_row(&src[i], y, w, h, fxs, fys, rowx, rowy, pr, pg, pb, pa);
+                        blend_row(&src[i], out, w, pr, pg, pb, pa);
+                    }
                 }
             }
             free(buf);
@@ -214,14 +321,11 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
         if (failed)
             st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the colour map");
     }
-    sq__lerp_free(&wx);
-    sq__lerp_free(&wy);
     sq__lerp_free(&nx);
     sq__lerp_free(&ny);
     tm->color = now_ms() - t0;
-    sq__pattern_free(&pat);
-    sq__warp_free(&warp);
-    sq__ffree(rgba);
+    for (int i = 0; i < nsrc; i++)
+        source_free(&src[i]);
     sq__ffree(noise);
     return st;
 }

@@ -57,8 +57,8 @@ run presets;              check "presets without subcommand" 2 err "say what to 
 run presets list;         check "presets list" 0 out "thesis/table_4_1_transversal.json" out "thesis/ca/vipera_berus.ca" out "transversal"
 run presets list --json;  check "presets list --json" 0 out '"kind": "ca"'
 run presets list /nonexistent; check "presets list missing dir" 1 err "squama: no presets folder here (/nonexistent)"
-run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca "$SRC"/presets/complex/*.json
-check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal"
+run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca "$SRC"/presets/complex/*.json "$SRC"/presets/layered/*.json
+check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal" out "ok  $SRC/presets/layered/garter_snake.json  (spots"
 run presets validate;     check "validate nothing" 2 err "validate needs at least one FILE"
 
 printf '{"format": "squama-preset/1",\n "Spots_Tilling": 2}\n' >"$TMP/typo.json"
@@ -113,6 +113,12 @@ check "render complex" 0 out "32x32 complex pattern"
 printf '{"format": "squama-preset/1", "Pattern_Type": "complex", "RD_System": "waves"}\n' >"$TMP/complex_bad.json"
 run render "$TMP/complex_bad.json" -o "$TMP/r/cx2" --size 32
 check "render complex bad system" 1 err "RD_System"
+printf '{"format": "squama-preset/1", "Pattern_Type": "spots",\n "Pattern_Layers": [{"Pattern_Type": "longitudinal", "Layer_Blend": "multiply"}]}\n' >"$TMP/layered.json"
+run render "$TMP/layered.json" -o "$TMP/r/ly" --size 32
+check "render layered" 0 out "32x32 spots pattern"
+printf '{"format": "squama-preset/1",\n "Pattern_Layers": [{"Pattern_Type": "spots",\n   "Scales_XAmount": 4}]}\n' >"$TMP/layered_bad.json"
+run presets validate "$TMP/layered_bad.json"
+check "layer with a non-pattern key" 1 err "squama: \"Scales_XAmount\" (group scales) cannot be set in Pattern_Layers[0]" err "($TMP/layered_bad.json:3)"
 [ -e "$TMP/r/cx2/basecolor.png" ] && { echo "FAIL: a failed render wrote a map"; fails=$((fails + 1)); }
 run render "$TMP/typo.json" -o "$TMP/r/t";  check "render bad preset" 1 err "unknown key"
 # contact sheets: a grid of presets, or nothing at all when one of them is bad

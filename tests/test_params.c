@@ -1,5 +1,6 @@
 /* The parameter table itself: invariants that every later module relies on. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 
 #include "sq_test.h"
@@ -42,12 +43,17 @@ static void table_fields_inside_struct_and_disjoint(void **state)
         [SQ_PT_FLOAT] = sizeof(double), [SQ_PT_INT] = sizeof(int),
         [SQ_PT_BOOL] = sizeof(int), [SQ_PT_ENUM] = sizeof(int),
         [SQ_PT_VEC2] = 2 * sizeof(double), [SQ_PT_COLOR] = 4 * sizeof(double),
-        [SQ_PT_CA] = sizeof(SqCa)};
+        [SQ_PT_CA] = sizeof(SqCa), [SQ_PT_LAYERS] = sizeof(SqPatternLayers)};
+    const size_t layers0 = offsetof(SqParams, Pattern_Layers.layer[0]);
     for (size_t i = 0; i < n; i++) {
         size_t a0 = t[i].offset, a1 = a0 + size_of[t[i].type];
         assert_true(a1 <= sizeof(SqParams));
+        if (t[i].flags & SQ_PF_LAYER) /* a layer's own setting: a field of layer[0] */
+            assert_true(a0 >= layers0 && a1 <= layers0 + sizeof(SqPatternLayer) &&
+                        a0 - layers0 >= sizeof(SqPatternSpec));
         for (size_t j = 0; j < n; j++) {
-            if (i == j)
+            if (i == j || (t[i].type == SQ_PT_LAYERS && (t[j].flags & SQ_PF_LAYER)) ||
+                (t[j].type == SQ_PT_LAYERS && (t[i].flags & SQ_PF_LAYER)))
                 continue;
             size_t b0 = t[j].offset, b1 = b0 + size_of[t[j].type];
             if (a0 < b1 && b0 < a1)
@@ -228,6 +234,115 @@ static void equal_and_format(void **state)
     assert_int_equal(strlen(small), 7);
 }
 
+/* The pattern rows are exactly the fields of SqParams.pattern, and inside a layer each
+ * lands on its own field of SqPatternLayer. */
+static void layer_rows_map_onto_the_layer(void **state)
+{
+    (void)state;
+    size_t n, in_layer = 0, bytes = 0;
+    const SqParamSpec *t = sq_params_table(&n);
+    for (size_t i = 0; i < n; i++)
+        if (sq_param_in_layer(&t[i]) && !(t[i].flags & SQ_PF_LAYER)) {
+            in_layer++;
+            bytes += t[i].type == SQ_PT_CA      ? sizeof(SqCa)
+                     : t[i].type == SQ_PT_FLOAT ? sizeof(double)
+                     : t[i].type == SQ_PT_VEC2  ? 2 * sizeof(double)
+                     : t[i].type == SQ_PT_COLOR ? 4 * sizeof(double)
+                                                : sizeof(int);
+        }
+    /* every byte of the spec but padding belongs to a row: none is forgotten */
+    assert_true(bytes <= sizeof(SqPatternSpec) && bytes + 64 > sizeof(SqPatternSpec));
+    assert_true(in_layer > 40);
+    assert_true(sq_param_in_layer(sq_params_find("Pattern_Type")));
+    assert_true(sq_param_in_layer(sq_params_find("Pattern_Warp_Large")));
+    assert_true(sq_param_in_layer(sq_params_find("RD_Softness")));
+    assert_true(sq_param_in_layer(sq_params_find("Layer_Opacity")));
+    assert_false(sq_param_in_layer(sq_params_find("Background_Color")));
+    assert_false(sq_param_in_layer(sq_params_find("Has_Outline")));
+    assert_false(sq_param_in_layer(sq_params_find("Scales_XAmount")));
+    assert_false(sq_param_in_layer(sq_params_find("Pattern_Layers")));
+    assert_false(sq_param_in_layer(sq_params_find("Seed")));
+
+    SqPatternLayer l;
+    sq_pattern_layer_default(&l);
+    assert_int_equal(l.Layer_Blend, SQ_BLEND_NORMAL);
+    assert_true(l.Layer_Opacity == 1.0);
+    SqParams d;
+    sq_params_default(&d);
+    assert_memory_equal(&l.spec, &d.pattern, sizeof l.spec); /* same defaults as the base */
+    *(double *)sq_param_layer_ptr(&l, sq_params_find("Spots_Scale")) = 1.75;
+    *(int *)sq_param_layer_ptr(&l, sq_params_find("Longitudinal_NumberOfStripes")) = 5;
+    *(double *)sq_param_layer_ptr(&l, sq_params_find("Layer_Opacity")) = 0.25;
+    *(int *)sq_param_layer_ptr(&l, sq_params_find("Layer_Blend")) = SQ_BLEND_SCREEN;
+    assert_true(l.spec.Spots_Scale == 1.75);
+    assert_int_equal(l.spec.Longitudinal_NumberOfStripes, 5);
+    assert_true(l.Layer_Opacity == 0.25);
+    assert_int_equal(l.Layer_Blend, SQ_BLEND_SCREEN);
+    assert_null(sq_param_layer_ptr(&l, sq_params_find("Scales_XAmount")));
+
+    /* the base pattern's fields by name and as a whole are the same memory */
+    d.pattern.Spots_Tiling = 2.5;
+    assert_true(d.Spots_Tiling == 2.5);
+    d.CA_Descriptor.epochs = 9;
+    assert_int_equal(d.pattern.CA_Descriptor.epochs, 9);
+}
+
+static void layers_validated_compared_and_formatted(void **state)
+{
+    (void)state;
+    SqParams a, b;
+    SqError err;
+    sq_params_default(&a);
+    assert_int_equal(a.Pattern_Layers.count, 0);
+    a.Pattern_Layers.count = 2;
+    a.Pattern_Layers.layer[0].spec.Pattern_Type = SQ_PATTERN_SPOTS;
+    a.Pattern_Layers.layer[1].spec.Pattern_Type = SQ_PATTERN_LONGITUDINAL;
+    a.Pattern_Layers.layer[1].Layer_Blend = SQ_BLEND_MULTIPLY;
+    a.Pattern_Layers.layer[1].Layer_Opacity = 0.5;
+    assert_int_equal(sq_params_validate(&a, &err), SQ_OK);
+
+    b = a;
+    b.Pattern_Layers.layer[1].spec.Spots_Tiling = 100;
+    assert_int_equal(sq_params_validate(&b, &err), SQ_ERR_INVALID);
+    assert_string_equal(err.where, "Pattern_Layers[1].Spots_Tiling");
+    assert_contains(err.what, "[0.05, 32]");
+    b = a;
+    b.Pattern_Layers.layer[0].Layer_Opacity = 1.5;
+    assert_int_equal(sq_params_validate(&b, &err), SQ_ERR_INVALID);
+    assert_string_equal(err.where, "Pattern_Layers[0].Layer_Opacity");
+    b = a;
+    b.Pattern_Layers.layer[0].spec.CA_Descriptor.nrules = 0;
+    assert_int_equal(sq_params_validate(&b, &err), SQ_ERR_INVALID);
+    assert_contains(err.where, "Pattern_Layers[0].CA_Descriptor");
+    b = a;
+    b.Pattern_Layers.count = SQ_MAX_PATTERN_LAYERS + 1;
+    assert_int_equal(sq_params_validate(&b, &err), SQ_ERR_INVALID);
+    assert_string_equal(err.where, "Pattern_Layers");
+    b = a; /* an unused layer is neither checked nor compared */
+    b.Pattern_Layers.layer[2].Layer_Opacity = 7;
+    assert_int_equal(sq_params_validate(&b, &err), SQ_OK);
+    assert_true(sq_params_equal(&a, &b));
+
+    b = a;
+    assert_true(sq_params_equal(&a, &b));
+    b.Pattern_Layers.layer[1].spec.Longitudinal_Pinch = 2;
+    assert_false(sq_params_equal(&a, &b));
+    b = a;
+    b.Pattern_Layers.count = 1;
+    assert_false(sq_params_equal(&a, &b));
+
+    char buf[256];
+    sq_param_format(&a, sq_params_find("Pattern_Layers"), 6, buf, sizeof buf);
+    assert_string_equal(buf, "[spots normal 1, longitudinal multiply 0.5]");
+    sq_params_default(&b);
+    sq_param_format(&b, sq_params_find("Pattern_Layers"), 6, buf, sizeof buf);
+    assert_string_equal(buf, "[]");
+    sq_param_format(&b, sq_params_find("Layer_Blend"), 6, buf, sizeof buf);
+    assert_string_equal(buf, "normal");
+    sq_param_format(&b, sq_params_find("Layer_Opacity"), 6, buf, sizeof buf);
+    assert_string_equal(buf, "1");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -239,6 +354,8 @@ int main(void)
         cmocka_unit_test(find_and_closest),
         cmocka_unit_test(validate_rejects_out_of_range_and_nan),
         cmocka_unit_test(equal_and_format),
+        cmocka_unit_test(layer_rows_map_onto_the_layer),
+        cmocka_unit_test(layers_validated_compared_and_formatted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

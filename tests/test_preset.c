@@ -55,6 +55,83 @@ static void values_of_every_type(void **state)
     assert_int_equal(p.CA_Descriptor.shift_mirror, 0);
 }
 
+/* Layers: every pattern parameter, the CA descriptor in either form, blend and opacity;
+ * missing keys take the table's defaults. */
+static void pattern_layers_parse(void **state)
+{
+    (void)state;
+    const char *text =
+        "{\n"
+        "  \"format\": \"squama-preset/1\",\n"
+        "  \"Pattern_Type\": \"spots\",\n"
+        "  \"Spots_Scale\": 0.75,\n"
+        "  \"Pattern_Layers\": [\n"
+        "    {\"Pattern_Type\": \"longitudinal\", \"Layer_Blend\": \"multiply\",\n"
+        "     \"Layer_Opacity\": 0.8, \"Longitudinal_NumberOfStripes\": 3,\n"
+        "     \"Pattern_Warp_Small\": 0.5},\n"
+        "    {\"Pattern_Type\": \"other_simple\",\n"
+        "     \"CA_Descriptor\": {\"initial\": [1, 1, 0, 1], \"type\": \"triangular\",\n"
+        "                       \"epochs\": 3, \"rules\": [\"100 x\"]}},\n"
+        "    {\"Pattern_Type\": \"complex\", \"RD_System\": \"stripes\",\n"
+        "     \"CA_Descriptor\": \"0 1 1 0\\nrectangular\\n0\\n4\\n1110 x\"}\n"
+        "  ]\n"
+        "}\n";
+    SqParams p, d;
+    SqError err;
+    if (parse(text, &p, &err) != SQ_OK)
+        fail_msg("%s (%s)", err.what, err.where);
+    sq_params_default(&d);
+    assert_int_equal(p.Pattern_Type, SQ_PATTERN_SPOTS);
+    assert_true(p.Spots_Scale == 0.75);
+    assert_int_equal(p.Pattern_Layers.count, 3);
+    const SqPatternLayer *l = p.Pattern_Layers.layer;
+    assert_int_equal(l[0].spec.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
+    assert_int_equal(l[0].Layer_Blend, SQ_BLEND_MULTIPLY);
+    assert_true(l[0].Layer_Opacity == 0.8);
+    assert_int_equal(l[0].spec.Longitudinal_NumberOfStripes, 3);
+    assert_true(l[0].spec.Pattern_Warp_Small == 0.5);
+    assert_true(l[0].spec.Spots_Scale == d.Spots_Scale); /* the table's default, not 0.75 */
+    assert_int_equal(l[1].spec.Pattern_Type, SQ_PATTERN_OTHER_SIMPLE);
+    assert_int_equal(l[1].Layer_Blend, SQ_BLEND_NORMAL);
+    assert_true(l[1].Layer_Opacity == 1.0);
+    assert_int_equal(l[1].spec.CA_Descriptor.type, SQ_CA_TRIANGULAR);
+    assert_int_equal(l[1].spec.CA_Descriptor.ncells, 4);
+    assert_int_equal(l[2].spec.RD_System, SQ_RD_STRIPES);
+    assert_int_equal(l[2].spec.CA_Descriptor.epochs, 4);
+    /* the base pattern and everything else untouched */
+    assert_true(sq_ca_equal(&p.CA_Descriptor, &d.CA_Descriptor));
+
+    /* an empty list is no layers, and the same preset as none */
+    SqParams e;
+    assert_int_equal(parse("{\"format\": \"squama-preset/1\", \"Pattern_Layers\": []}", &e, &err),
+                     SQ_OK);
+    assert_int_equal(e.Pattern_Layers.count, 0);
+    assert_true(sq_params_equal(&e, &d));
+
+    /* save -> load -> save: the same text, every layer parameter written */
+    char *saved = sq_preset_to_json(&p, NULL, &err);
+    assert_non_null(saved);
+    SqParams q;
+    if (parse(saved, &q, &err) != SQ_OK)
+        fail_msg("%s (%s)\n%s", err.what, err.where, saved);
+    assert_true(sq_params_equal(&p, &q));
+    char *again = sq_preset_to_json(&q, NULL, &err);
+    assert_string_equal(saved, again);
+    assert_contains(saved, "\"Pattern_Layers\": [{\n      \"Pattern_Type\": \"longitudinal\",\n"
+                           "      \"Layer_Blend\": \"multiply\",\n      \"Layer_Opacity\": 0.8,\n");
+    size_t rows, in_layer = 0;
+    const SqParamSpec *t = sq_params_table(&rows);
+    for (size_t i = 0; i < rows; i++)
+        in_layer += sq_param_in_layer(&t[i]);
+    size_t keys = 0;
+    for (const char *c = strstr(saved, "\"Pattern_Layers\""); c && *c; c++)
+        keys += c[0] == '\n' && c[1] == ' ' && c[2] == ' ' && c[3] == ' ' && c[4] == ' ' &&
+                c[5] == ' ' && c[6] == ' ' && c[7] == '"';
+    assert_int_equal(keys, 3 * in_layer);
+    free(saved);
+    free(again);
+}
+
 /* One case per way a preset can be wrong: status, location and message. */
 static void every_error_named_with_its_place(void **state)
 {
@@ -132,6 +209,45 @@ static void every_error_named_with_its_place(void **state)
          "p.json:1", "the rules cover 2 epochs but 5 rows", SQ_ERR_INVALID},
         {"{\"format\": \"squama-preset/1\", \"CA_Descriptor\": 5}", "p.json:1",
          "descriptor text (a string) or an object", SQ_ERR_INVALID},
+        /* pattern layers: the layer's index and the key's line inside it */
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [\n {\"Pattern_Type\": \"spots\"},\n"
+         " {\"Pattern_Type\": \"spots\",\n  \"Spots_Tilling\": 2}]}",
+         "p.json:5",
+         "Pattern_Layers[1] has an unknown key \"Spots_Tilling\" (did you mean \"Spots_Tiling\"?)",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"Scales_XAmount\": 4,\n\"Pattern_Layers\": [\n"
+         " {\"Pattern_Type\": \"spots\",\n  \"Scales_XAmount\": 4}]}",
+         "p.json:4", "\"Scales_XAmount\" (group scales) cannot be set in Pattern_Layers[0]",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"Pattern_Layers\": [{}, {}, {}, {}]}", "p.json:1",
+         "\"Pattern_Layers\" has 4 layers; at most 3 are allowed", SQ_ERR_LIMIT},
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [{},\n{\"Layer_Blend\": \"darken\"}]}",
+         "p.json:3",
+         "\"Pattern_Layers[1].Layer_Blend\" must be one of normal, multiply, screen, overlay; "
+         "got the string \"darken\"",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [\n{\"Layer_Opacity\": 1.5}]}",
+         "p.json:3", "\"Pattern_Layers[0].Layer_Opacity\" is 1.5, outside its range [0, 1]",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [{},\n\n \"spots\"]}", "p.json:4",
+         "Pattern_Layers[1] must be an object of pattern parameters", SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"Pattern_Layers\": {\"Pattern_Type\": \"spots\"}}",
+         "p.json:1", "\"Pattern_Layers\" must be an array of layer objects, got an object",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"Layer_Opacity\": 0.5}", "p.json:1",
+         "\"Layer_Opacity\" belongs inside a layer of \"Pattern_Layers\"", SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [{\"Spots_Scale\": 1,\n"
+         "\"Spots_Scale\": 2}]}",
+         "p.json:3", "Pattern_Layers[0] has the key \"Spots_Scale\" twice", SQ_ERR_INVALID},
+        /* the same key at the top level and in a layer: the layer's line is named */
+        {"{\"format\": \"squama-preset/1\", \"Spots_Scale\": 1,\n\"Pattern_Layers\": [\n"
+         "{\"Spots_Scale\": 1}, {\"Pattern_Type\": \"spots\",\n\"Spots_Scale\": \"big\"}]}",
+         "p.json:4", "\"Pattern_Layers[1].Spots_Scale\" must be a number in [0, 8]",
+         SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\",\n\"Pattern_Layers\": [{\"Pattern_Type\": \"other_simple\",\n"
+         "\"CA_Descriptor\": \"0 1\\nrectangular\\n0\\n6\\n11 x\"}]}",
+         "p.json:3, Pattern_Layers[0].CA_Descriptor text line:5",
+         "rectangular rules have 4 bits", SQ_ERR_INVALID},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         SqParams p;
@@ -203,50 +319,65 @@ static double rnd(void)
     return (double)(rng_state >> 11) / 9007199254740992.0;
 }
 
+static void random_field(void *f, const SqParamSpec *s)
+{
+    double lo = s->min, hi = s->max;
+    switch (s->type) {
+    case SQ_PT_FLOAT:
+        /* awkward doubles: full 53-bit mantissas, tiny values, exact ends */
+        *(double *)f = rnd() < 0.1 ? (rnd() < 0.5 ? lo : hi) : lo + (hi - lo) * rnd();
+        break;
+    case SQ_PT_INT:
+    case SQ_PT_BOOL:
+    case SQ_PT_ENUM:
+    {
+        double v = lo + floor((hi - lo + 1) * rnd());
+        *(int *)f = (int)(v > hi ? hi : v);
+        break;
+    }
+    case SQ_PT_VEC2:
+    case SQ_PT_COLOR:
+        for (int c = 0; c < sq_param_components(s->type); c++)
+            ((double *)f)[c] = lo + (hi - lo) * rnd() * rnd();
+        break;
+    case SQ_PT_CA: {
+        SqCa *ca = f;
+        ca->ncells = 2 + (int)(rnd() * 40);
+        for (int c = 0; c < ca->ncells; c++)
+            ca->cells[c] = rnd() < 0.5;
+        ca->type = rnd() < 0.5 ? SQ_CA_RECTANGULAR : SQ_CA_TRIANGULAR;
+        ca->shift_mirror = (int)(rnd() * 7) - 3;
+        ca->epochs = 1 + (int)(rnd() * 20);
+        ca->nrules = 1 + (int)(rnd() * 4);
+        for (int r = 0; r < ca->nrules; r++) {
+            ca->rules[r].bits = (uint8_t)(rnd() * (1 << sq_ca_rule_bits(ca->type)));
+            ca->rules[r].epochs = 1 + (int)(rnd() * 3);
+        }
+        ca->rules[ca->nrules - 1].epochs = SQ_CA_REMAINING;
+        break;
+    }
+    case SQ_PT_LAYERS: { /* every layer field random, through the same table rows */
+        SqPatternLayers *ls = f;
+        size_t n;
+        const SqParamSpec *t = sq_params_table(&n);
+        ls->count = (int)(rnd() * (SQ_MAX_PATTERN_LAYERS + 1));
+        for (int k = 0; k < ls->count; k++)
+            for (size_t i = 0; i < n; i++)
+                if (sq_param_in_layer(&t[i]))
+                    random_field(sq_param_layer_ptr(&ls->layer[k], &t[i]), &t[i]);
+        break;
+    }
+    }
+}
+
 static void random_params(SqParams *p)
 {
     size_t n;
     const SqParamSpec *t = sq_params_table(&n);
     sq_params_default(p);
-    for (size_t i = 0; i < n; i++) {
-        void *f = sq_param_ptr(p, &t[i]);
-        double lo = t[i].min, hi = t[i].max;
-        switch (t[i].type) {
-        case SQ_PT_FLOAT:
-            /* awkward doubles: full 53-bit mantissas, tiny values, exact ends */
-            *(double *)f = rnd() < 0.1 ? (rnd() < 0.5 ? lo : hi) : lo + (hi - lo) * rnd();
-            break;
-        case SQ_PT_INT:
-        case SQ_PT_BOOL:
-        case SQ_PT_ENUM:
-        {
-            double v = lo + floor((hi - lo + 1) * rnd());
-            *(int *)f = (int)(v > hi ? hi : v);
-            break;
-        }
-        case SQ_PT_VEC2:
-        case SQ_PT_COLOR:
-            for (int c = 0; c < sq_param_components(t[i].type); c++)
-                ((double *)f)[c] = lo + (hi - lo) * rnd() * rnd();
-            break;
-        case SQ_PT_CA: {
-            SqCa *ca = f;
-            ca->ncells = 2 + (int)(rnd() * 40);
-            for (int c = 0; c < ca->ncells; c++)
-                ca->cells[c] = rnd() < 0.5;
-            ca->type = rnd() < 0.5 ? SQ_CA_RECTANGULAR : SQ_CA_TRIANGULAR;
-            ca->shift_mirror = (int)(rnd() * 7) - 3;
-            ca->epochs = 1 + (int)(rnd() * 20);
-            ca->nrules = 1 + (int)(rnd() * 4);
-            for (int r = 0; r < ca->nrules; r++) {
-                ca->rules[r].bits = (uint8_t)(rnd() * (1 << sq_ca_rule_bits(ca->type)));
-                ca->rules[r].epochs = 1 + (int)(rnd() * 3);
-            }
-            ca->rules[ca->nrules - 1].epochs = SQ_CA_REMAINING;
-            break;
-        }
-        }
-    }
+    for (size_t i = 0; i < n; i++)
+        if (!(t[i].flags & SQ_PF_LAYER))
+            random_field(sq_param_ptr(p, &t[i]), &t[i]);
     p->Spots_Tiling = 0.1 + 0.2; /* 0.30000000000000004: needs 17 digits */
     p->Spots_Scale = 1e-300;
     p->Pattern_Warp_Small = 1.0 / 3.0;
@@ -396,6 +527,7 @@ int main(void)
         cmocka_unit_test(only_format_gives_defaults),
         cmocka_unit_test(values_of_every_type),
         cmocka_unit_test(every_error_named_with_its_place),
+        cmocka_unit_test(pattern_layers_parse),
         cmocka_unit_test(nul_byte_size_and_key_limits),
         cmocka_unit_test(missing_file_and_directory),
         cmocka_unit_test(save_load_round_trip_is_exact),
