@@ -62,11 +62,17 @@ def run(cmd, log):
 
 
 def fit(args, photo, mask, out, extra):
-    if not os.path.exists(os.path.join(out, "fit.json")):
-        cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", "1", "--size", "256", "-q"]
-        if args.threads:
-            cmd += ["-j", str(args.threads)]
-        run(cmd + extra, out + ".log")
+    """A fit, kept for a rerun only when the same command (program, budget) made it."""
+    cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", "1", "--size", "256", "-q"]
+    if args.threads:
+        cmd += ["-j", str(args.threads)]
+    cmd += extra
+    stamp = os.path.join(out, "command.txt")
+    same = os.path.exists(stamp) and open(stamp).read() == " ".join(cmd)
+    if not (same and os.path.exists(os.path.join(out, "fit.json"))):
+        run(cmd, out + ".log")
+        with open(stamp, "w") as f:
+            f.write(" ".join(cmd))
     with open(os.path.join(out, "fit.json")) as f:
         return json.load(f)
 

@@ -486,6 +486,8 @@ int cmd_fit(int argc, char **argv)
         case O_CATEGORIES: {
             fo.categories = 0;
             char list[256];
+            if (strlen(optarg) >= sizeof list)
+                return cli_usage("fit", "--categories is too long");
             snprintf(list, sizeof list, "%s", optarg);
             for (char *save = NULL, *name = strtok_r(list, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
                 int found = -1;
@@ -536,6 +538,16 @@ int cmd_fit(int argc, char **argv)
         double spent = 0;
         if (load_checkpoint(resume, &seeds, &fo.nseeds, &spent, &err) != 0)
             return cli_fail(&err);
+        if (fo.categories) { /* the checkpoint's presets of categories left out stay behind */
+            int kept = 0;
+            for (int i = 0; i < fo.nseeds; i++)
+                if ((fo.categories >> seeds[i].params.Pattern_Type) & 1u)
+                    seeds[kept++] = seeds[i];
+            if (kept < fo.nseeds && !x.quiet)
+                fprintf(stderr, "squama: %d of the checkpoint's %d presets are of categories left out\n",
+                        fo.nseeds - kept, fo.nseeds);
+            fo.nseeds = kept;
+        }
         fo.seeds = seeds;
         x.offset_s = spent;
         if (fo.budget > 0)

@@ -67,7 +67,7 @@ static void paste(SqImage *dst, const SqImage *src, int x0, int y0)
 /* A contact sheet of presets: each one's base colour at size x size, in a grid of cols
  * columns, its name beneath. Nothing is written unless every preset renders. */
 static int render_sheet(const char *out, char **presets, int n, int size, int cols, SqGenOptions go,
-                        int quiet)
+                        long seed, int quiet)
 {
     if (cols <= 0)
         for (cols = 1; cols * cols < n; cols++)
@@ -77,7 +77,8 @@ static int render_sheet(const char *out, char **presets, int n, int size, int co
     SqImage sheet;
     SqError err;
     if (sq_image_alloc(&sheet, SHEET_GAP + cols * cw, SHEET_GAP + rows * ch, 3, SQ_SPACE_SRGB) != 0) {
-        sq_error_set(&err, SQ_ERR_NOMEM, out, "out of memory for a %dx%d sheet", cols, rows);
+        sq_error_set(&err, SQ_ERR_NOMEM, out, "out of memory for a sheet of %d x %d tiles of %d pixels", cols,
+                     rows, size);
         return cli_fail(&err);
     }
     for (size_t i = 0; i < (size_t)sheet.width * sheet.height * 3; i++)
@@ -87,8 +88,13 @@ static int render_sheet(const char *out, char **presets, int n, int size, int co
     for (int i = 0; i < n && rc == CLI_OK; i++) {
         SqParams p;
         SqTextures tex;
-        if (sq_preset_load(presets[i], &p, NULL, &err) != SQ_OK ||
-            sq_gen_render(&p, &go, &tex, &err) != SQ_OK) {
+        if (sq_preset_load(presets[i], &p, NULL, &err) != SQ_OK) {
+            rc = cli_fail(&err);
+            break;
+        }
+        if (seed >= 0)
+            p.Seed = (int)seed;
+        if (sq_gen_render(&p, &go, &tex, &err) != SQ_OK) {
             rc = cli_fail(&err);
             break;
         }
@@ -186,17 +192,21 @@ int cmd_render(int argc, char **argv)
             return cli_usage("render", "unknown option '%s'", argv[optind - 1]);
         }
     }
+    const int png = strcmp(ext, "png") == 0;
+    if (!sheet && cols)
+        return cli_usage("render", "--cols is for --sheet");
     if (sheet) {
         if (argc - optind < 1)
             return cli_usage("render", "--sheet needs the PRESETs to lay out");
-        if (outdir || ca_file || preview)
-            return cli_usage("render", "--sheet makes one image: -o, --ca and --preview do not go with it");
+        if (outdir || ca_file || preview || bits || go.normal_directx || !png)
+            return cli_usage("render", "--sheet makes one PNG of base colours: -o, --ca, --preview, --format, "
+                                       "--bits and --directx do not go with it");
         if (size_given && (go.width != go.height || go.width < 32 || go.width > 1024))
             return cli_usage("render", "a sheet's --size is one side from 32 to 1024, got %dx%d", go.width,
                              go.height);
-        return render_sheet(sheet, argv + optind, argc - optind, size_given ? go.width : 256, cols, go, quiet);
+        return render_sheet(sheet, argv + optind, argc - optind, size_given ? go.width : 256, cols, go, seed,
+                            quiet);
     }
-    const int png = strcmp(ext, "png") == 0;
     if (bits && (png ? bits == 32 : bits == 8))
         return cli_usage("render", "--bits %d does not fit --format %s (PNG: 8 or 16, EXR: 16 or 32)", bits, ext);
     if (!outdir)

@@ -280,8 +280,8 @@ static double centre_between_edges(const uint8_t *m8, int w, int h, float *px, f
 
 enum { MAX_RUNS = 16 };
 
-/* The photo with the skeleton (red), its longest path (yellow) and the straightened runs
- * (green). */
+/* The photo with the skeleton (red), its longest path (yellow) and the runs that may be
+ * straightened (green; those whose edges are not clean are then left out). */
 static void debug_centre_line(const SqPrepOptions *o, const SqImage *photo, const uint8_t *skel,
                               const int *path, int n, int nruns, const int (*runs)[2])
 {
@@ -401,7 +401,8 @@ static void analyse(Body *b, int w, int h)
                 bad[k] = 1;
         }
     }
-    /* the runs to straighten: every run a body width long (the longest always) */
+    /* the runs that may be straightened: every run a body width long (MAX_RUNS - 1 of
+     * them at most, in path order), and the longest */
     for (int i = 0, j; i < n; i = j) {
         for (j = i; j < n && !bad[j]; j++)
             ;
@@ -409,19 +410,27 @@ static void analyse(Body *b, int w, int h)
             j++;
             continue;
         }
-        const int longest = j - i > b->runn;
-        if (longest) {
+        if (j - i > b->runn) {
             b->runn = j - i;
             b->run0 = i;
         }
-        if ((longest || j - i >= 2 * r) && b->nruns < MAX_RUNS) {
+        if (j - i >= 2 * r && b->nruns < MAX_RUNS - 1) {
             b->runs[b->nruns][0] = i;
             b->runs[b->nruns][1] = j - i;
             b->nruns++;
-        } else if (longest) { /* full: the longest takes the last place */
-            b->runs[MAX_RUNS - 1][0] = i;
-            b->runs[MAX_RUNS - 1][1] = j - i;
         }
+    }
+    int have = 0, at = b->nruns;
+    for (int k = 0; k < b->nruns; k++) {
+        have |= b->runs[k][0] == b->run0;
+        if (b->runs[k][0] > b->run0 && at == b->nruns)
+            at = k;
+    }
+    if (!have && b->runn > 0) { /* in its place along the path */
+        memmove(b->runs[at + 1], b->runs[at], sizeof b->runs[0] * (size_t)(b->nruns - at));
+        b->runs[at][0] = b->run0;
+        b->runs[at][1] = b->runn;
+        b->nruns++;
     }
     free(bad);
     free(width);
@@ -436,14 +445,15 @@ static SqStatus fail(SqPrepared *out, SqStatus st)
     return st;
 }
 
+/* The largest left-right tilt divided out locally: a log-luminance slope of 0.7 over the
+ * half width, the one edge of the band twice as bright as the middle and four times the
+ * other edge. */
+static const float MAX_TILT = 0.7f;
+
 /* Divides out the light: across, a smooth quadratic in theta fitted to the log of the
  * column medians (the round body's shading); along, the luminance averaged over a strip
  * width. Patterns finer than the strip's width keep their contrast; broader ones (a pale
  * dorsal stripe, wide bands) are flattened too, so candidate strips go through the same. */
-/* The largest left-right tilt divided out locally: a log-luminance slope of 0.7 over the
- * half width, a flank twice as bright as the other. */
-static const float MAX_TILT = 0.7f;
-
 void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
 {
     enum { W = SQ_FIT_STRIP_W };
@@ -591,7 +601,7 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
 /* One run of the centre line made ready to straighten: smoothed, moved between the
  * edges, with its local radius, clean flags and arc length. */
 typedef struct Curve {
-    int n, rows;
+    int i0, n, rows; /* its first point along the skeleton's path, points, strip rows */
     double good; /* share of the points with both edges a body's width apart */
     float *px, *py, *pr;
     unsigned char *clean;
@@ -600,8 +610,8 @@ typedef struct Curve {
 
 enum { RUN_GAP = 4 }; /* strip rows between two runs */
 
-/* A run besides the longest is straightened when its edges are found a body's width apart
- * at this share of its points. */
+/* A run is straightened with the others when its edges are found a body's width apart at
+ * this share of its points. */
 static const double MIN_RUN_GOOD = 0.85;
 
 static void curve_free(Curve *c)
@@ -617,6 +627,7 @@ static void curve_free(Curve *c)
 static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
 {
     memset(c, 0, sizeof *c);
+    c->i0 = i0;
     c->n = n;
     c->px = malloc(sizeof(float) * (size_t)n);
     c->py = malloc(sizeof(float) * (size_t)n);
@@ -868,10 +879,11 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         c->rows = (int)(c->arc[c->n - 1] / step);
     }
     /* the runs whose edges are a body's width apart nearly all along (where the skeleton's
-     * longest path cuts through a crossing, they are not); if none is, the longest alone */
+     * longest path cuts through a crossing or runs along the frame, they are not), if the
+     * longest of them fills a strip; else the longest run alone, as it is */
     int kept = 0, longest = 0;
     for (int k = 0; k < ncurves; k++)
-        if (curves[k].good >= MIN_RUN_GOOD) {
+        if (curves[k].good >= MIN_RUN_GOOD && curves[k].n >= 2 * r) {
             Curve t = curves[kept];
             curves[kept] = curves[k];
             curves[k] = t;
@@ -879,14 +891,15 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                 longest = kept;
             kept++;
         }
-    if (kept == 0) {
+    if (kept == 0 || curves[longest].rows < SQ_FIT_STRIP_W) {
         for (int k = 0; k < ncurves; k++)
-            if (body.runs[k][0] == body.run0) {
+            if (curves[k].i0 == body.run0) {
                 Curve t = curves[0];
                 curves[0] = curves[k];
                 curves[k] = t;
             }
         kept = 1;
+        longest = 0;
     }
     while (ncurves > kept)
         curve_free(&curves[--ncurves]);
@@ -912,7 +925,16 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         length += curves[k].rows * step;
     }
     debug_save(&o, "5_strip_raw.png", &out->strip);
-    sq__fit_normalise_light(&out->strip, &out->valid);
+    /* the light of each stretch on its own: another part of the body lies another way */
+    for (int k = 0, row0 = 0; k < ncurves; k++) {
+        SqImage sv = out->strip, vv = out->valid;
+        sv.px += (size_t)row0 * SQ_FIT_STRIP_W * 3;
+        vv.px += (size_t)row0 * SQ_FIT_STRIP_W;
+        sv.height = vv.height = curves[k].rows;
+        if (curves[k].rows > 0)
+            sq__fit_normalise_light(&sv, &vv);
+        row0 += curves[k].rows + RUN_GAP;
+    }
     debug_save(&o, "6_strip.png", &out->strip);
     debug_save(&o, "7_strip_valid.png", &out->valid);
 

@@ -954,9 +954,9 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
     for (int i = 0; i < o->nseeds; i++) {
         int t = o->seeds[i].params.Pattern_Type;
         if (t < 0 || t >= CATEGORIES)
-            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "fit",
-                                "a starting preset has pattern type \"%s\", which cannot be fitted yet",
-                                sq_pattern_type_name(t));
+            return sq_error_set(err, SQ_ERR_INVALID, "fit",
+                                "a starting preset has pattern type %d, which is none of the %d there are", t,
+                                (int)CATEGORIES);
         SqStatus st = sq_params_validate(&o->seeds[i].params, err);
         if (st != SQ_OK)
             return st;

@@ -130,7 +130,8 @@ run render --sheet "$TMP/sheet2.png" "$SRC/presets/thesis/table_4_4_spots.json" 
 check "render --sheet bad preset" 1 err "unknown key"
 [ -e "$TMP/sheet2.png" ] && { echo "FAIL: a failed sheet was written"; fails=$((fails + 1)); }
 run render --sheet "$TMP/sheet3.png" "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r"
-check "render --sheet with -o" 2 err "--sheet makes one image"
+check "render --sheet with -o" 2 err "--sheet makes one PNG of base colours"
+run render --cols 2 "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r"; check "render --cols without --sheet" 2 err "--cols is for --sheet"
 run render --sheet "$TMP/sheet3.png"; check "render --sheet alone" 2 err "needs the PRESETs"
 
 # photo and preview

@@ -94,7 +94,7 @@ static void straightening_follows_the_body(void **state)
 static void coiled_body_in_stretches(void **state)
 {
     (void)state;
-    int several = 0;
+    int several = 0, failed = 0;
     for (unsigned seed = 1; seed <= 12; seed++) {
         SqImage photo, mask;
         SqPhotoTruth t;
@@ -117,16 +117,20 @@ static void coiled_body_in_stretches(void **state)
                         any += *sq_image_at(&prep.valid, x, y);
                     empty += any == 0;
                 }
-                assert_true(empty >= prep.nruns - 1);
+                assert_true(empty >= 4 * (prep.nruns - 1)); /* a few rows between stretches */
             }
             sq_fit_prepared_free(&prep);
+        } else {
+            failed++;
+            print_message("seed %u: %s\n", seed, err.what);
         }
         sq_image_free(&photo);
         sq_image_free(&mask);
         sq_fit_truth_free(&t);
     }
-    print_message("%d of 12 coiled snakes straightened in several stretches\n", several);
+    print_message("%d of 12 coiled snakes straightened in several stretches, %d refused\n", several, failed);
     assert_true(several >= 2);
+    assert_true(failed <= 1); /* the tightest coils may leave no body width clean */
 }
 
 /* GrabCut finds the snake on bare soil. (In grass or leaf litter it often does not: the
