@@ -125,9 +125,10 @@ SqPrepOptions sq_fit_prep_options_default(void);
 
 /* Prepares a photo (sRGB, 3 or 4 channels) with an optional mask (1 channel, the same
  * size; NULL: the photo's alpha if it has one, else made automatically by GrabCut):
- * cleans the mask, follows the centre line of its clean runs (the longest, and others a
- * body width long whose edges are clean all along, one after another with a few rows of
- * not-body between them), resamples the body across at asin-spaced angles within +-60
+ * cleans the mask, follows the centre line of its clean runs (those a body width long
+ * whose edges are a body's width apart nearly all along, one after another with a few rows
+ * of not-body between them, when the longest of them fills a strip; else the longest run
+ * alone), resamples the body across at asin-spaced angles within +-60
  * degrees into a strip, and divides out large-scale shading. */
 SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepOptions *o,
                         SqPrepared *out, SqError *err);
