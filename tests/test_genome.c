@@ -133,7 +133,7 @@ static void decode_encode_round_trip(void **state)
             for (int i = 0; i < g.n; i++) {
                 const SqGene *e = &g.genes[i];
                 const void *a = sq_param_cptr(&p, e->spec), *b = sq_param_cptr(&q, e->spec);
-                if (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL)
+                if (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL || e->spec->type == SQ_PT_ENUM)
                     assert_int_equal(*(const int *)a, *(const int *)b);
                 else
                     assert_float_equal(((const double *)a)[e->comp], ((const double *)b)[e->comp], 1e-9);
