@@ -528,7 +528,12 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
      * tilt of each row (the slope of log luminance over t, after the fit above) is
      * smoothed over a strip width and divided out where it departs from its mean; a
      * pattern's own asymmetry, constant along the body, stays. */
-    float *tilt = malloc(sizeof(float) * (size_t)n);
+    float *tilt = malloc(sizeof(float) * (size_t)n), *tf = malloc(sizeof(float) * (size_t)n * W);
+    if (!tilt || !tf) { /* out of memory: the tilt stays */
+        free(tilt);
+        free(tf);
+        tilt = tf = NULL;
+    }
     if (tilt) {
         double tsum = 0;
         int tcount = 0;
@@ -557,8 +562,10 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
         smooth1d(tilt, n, W);
         for (int y = 0; y < n; y++) {
             const float g = fminf(fmaxf(tilt[y], -MAX_TILT), MAX_TILT);
-            for (int x = 0; x < W; x++)
-                lum[(size_t)y * W + x] /= expf(g * (float)((x + 0.5) / W * 2 - 1));
+            for (int x = 0; x < W; x++) { /* kept for the pixels themselves below */
+                tf[(size_t)y * W + x] = expf(g * (float)((x + 0.5) / W * 2 - 1));
+                lum[(size_t)y * W + x] /= tf[(size_t)y * W + x];
+            }
         }
     }
     /* along: the mean luminance per row (after the across correction), smoothed */
@@ -586,8 +593,8 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     for (int y = 0; y < n; y++)
         for (int x = 0; x < W; x++) {
             float k = (float)(gmean / (row[y] * (colf[x] / mean)));
-            if (tilt)
-                k /= expf(fminf(fmaxf(tilt[y], -MAX_TILT), MAX_TILT) * (float)((x + 0.5) / W * 2 - 1));
+            if (tf)
+                k /= tf[(size_t)y * W + x];
             float *p = strip->px + 3 * ((size_t)y * W + x);
             for (int c = 0; c < 3; c++)
                 p[c] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(p[c]) * k);
@@ -596,6 +603,7 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     free(col);
     free(row);
     free(tilt);
+    free(tf);
 }
 
 /* One run of the centre line made ready to straighten: smoothed, moved between the

@@ -323,6 +323,31 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
  * (channel 1), interleaved. Returns -1 when out of memory. */
 int sq__scale_stamp(const SqParams *p, float *stamp, int s);
 
+/* Paints the stamp (s x s, from sq__scale_stamp) at stamp coordinates X, Y (inside
+ * (-1, 1) x (-1, 1); outside, nothing) over one pixel, front to back: *height gains the
+ * stamp's bilinear height times its coverage under the transparency left, *clear, which
+ * the coverage then shrinks. Shared by the grid and the Voronoi layouts. */
+static inline void sq__stamp_over(const float *stamp, int s, float X, float Y, float *height, float *clear)
+{
+    if (X <= -1 || X >= 1 || Y <= -1 || Y >= 1)
+        return;
+    const float half_s = 0.5f * (float)s;
+    float fx = (X + 1) * half_s - 0.5f, fy = (Y + 1) * half_s - 0.5f;
+    fx = fx < 0 ? 0 : (fx > s - 1.001f ? s - 1.001f : fx);
+    fy = fy < 0 ? 0 : (fy > s - 1.001f ? s - 1.001f : fy);
+    const int x0 = (int)fx, y0 = (int)fy;
+    const float tx = fx - x0, ty = fy - y0;
+    const float *p00 = stamp + 2 * (y0 * s + x0), *p01 = p00 + 2 * s;
+    const float a0 = p00[1] + (p00[3] - p00[1]) * tx, a1 = p01[1] + (p01[3] - p01[1]) * tx;
+    const float a = a0 + (a1 - a0) * ty;
+    if (a <= 0)
+        return;
+    const float h0 = p00[0] + (p00[2] - p00[0]) * tx, h1 = p01[0] + (p01[2] - p01[0]) * tx;
+    const float t = *clear;
+    *height += t * a * (h0 + (h1 - h0) * ty);
+    *clear = t * (1.0f - a);
+}
+
 /* The lens inside the stamp, in stamp units ([-1, 1] square): cones of radius
  * SQ__CONE_R centred at +-SQ__CONE_D intersect in a lens SQ__LENS_HW wide (half) and
  * SQ__LENS_HH tall (half), before Scales_Expansion grows it. */

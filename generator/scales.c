@@ -326,23 +326,8 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
                             dx = 0;
                             dy += wob[x] * belly_v;
                         }
-                        float X = (dx * cs + dy * sn) * iax, Y = (-dx * sn + dy * cs) * iay;
-                        if (X <= -1 || X >= 1 || Y <= -1 || Y >= 1)
-                            continue;
-                        float fx = (X + 1) * half_s - 0.5f, fy = (Y + 1) * half_s - 0.5f;
-                        fx = fx < 0 ? 0 : (fx > s - 1.001f ? s - 1.001f : fx);
-                        fy = fy < 0 ? 0 : (fy > s - 1.001f ? s - 1.001f : fy);
-                        const int x0 = (int)fx, yy0 = (int)fy;
-                        const float tx = fx - x0, ty = fy - yy0;
-                        const float *p00 = stamp + 2 * (yy0 * s + x0), *p01 = p00 + 2 * s;
-                        float a0 = p00[1] + (p00[3] - p00[1]) * tx, a1 = p01[1] + (p01[3] - p01[1]) * tx;
-                        float a = a0 + (a1 - a0) * ty;
-                        if (a <= 0)
-                            continue;
-                        float h0 = p00[0] + (p00[2] - p00[0]) * tx, h1 = p01[0] + (p01[2] - p01[0]) * tx;
-                        float t = tr[x];
-                        row[x] += t * a * (h0 + (h1 - h0) * ty);
-                        tr[x] = t * (1.0f - a);
+                        sq__stamp_over(stamp, s, (dx * cs + dy * sn) * iax, (-dx * sn + dy * cs) * iay,
+                                       &row[x], &tr[x]);
                     }
                 }
             }

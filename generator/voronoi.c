@@ -106,6 +106,17 @@ typedef struct Space {
     double *cuv;
 } Space;
 
+static void space_free(Space *S)
+{
+    free(S->U);
+    free(S->V);
+    free(S->start);
+    free(S->list);
+    free(S->cstart);
+    free(S->cand);
+    free(S->cuv);
+}
+
 static int bucket_u(const Space *S, double U)
 {
     int b = (int)(U / S->DU * S->nbu);
@@ -265,13 +276,7 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     if (!S.U || !S.V || !S.start || !S.list || !S.cstart || !S.cand || !S.cuv || !sum || !vo->u || !vo->v || !vo->fixed ||
         !vo->owner || !vo->area || !vo->cu || !vo->cv || !vo->bu0 || !vo->bu1 || !vo->bv0 ||
         !vo->bv1) {
-        free(S.U);
-        free(S.V);
-        free(S.start);
-        free(S.list);
-        free(S.cstart);
-        free(S.cand);
-        free(S.cuv);
+        space_free(&S);
         free(sum);
         sq__voronoi_free(vo);
         return sq_error_set(err, SQ_ERR_NOMEM, "Scales_Layout",
@@ -354,13 +359,7 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
         vo->cu[s] = vo->u[s] + sum[4 * s] / vo->area[s];
         vo->cv[s] = vo->v[s] + sum[4 * s + 1] / vo->area[s];
     }
-    free(S.U);
-    free(S.V);
-    free(S.start);
-    free(S.list);
-    free(S.cstart);
-    free(S.cand);
-    free(S.cuv);
+    space_free(&S);
     free(sum);
     return SQ_OK;
 }
@@ -646,23 +645,8 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                         dx = 0;
                         dy += wob[x] * belly_v;
                     }
-                    float Xs = (dx * cs + dy * sn) * iax, Ys = (-dx * sn + dy * cs) * iy;
-                    if (Xs <= -1 || Xs >= 1 || Ys <= -1 || Ys >= 1)
-                        continue;
-                    float fx = (Xs + 1) * half_s - 0.5f, fy = (Ys + 1) * half_s - 0.5f;
-                    fx = fx < 0 ? 0 : (fx > s - 1.001f ? s - 1.001f : fx);
-                    fy = fy < 0 ? 0 : (fy > s - 1.001f ? s - 1.001f : fy);
-                    const int x0 = (int)fx, yy0 = (int)fy;
-                    const float tx = fx - x0, ty = fy - yy0;
-                    const float *p00 = stamp + 2 * (yy0 * s + x0), *p01 = p00 + 2 * s;
-                    float a0 = p00[1] + (p00[3] - p00[1]) * tx, a1 = p01[1] + (p01[3] - p01[1]) * tx;
-                    float a = a0 + (a1 - a0) * ty;
-                    if (a <= 0)
-                        continue;
-                    float h0 = p00[0] + (p00[2] - p00[0]) * tx, h1 = p01[0] + (p01[2] - p01[0]) * tx;
-                    float t = tr[x];
-                    row[x] += t * a * (h0 + (h1 - h0) * ty);
-                    tr[x] = t * (1.0f - a);
+                    sq__stamp_over(stamp, s, (dx * cs + dy * sn) * iax, (-dx * sn + dy * cs) * iy, &row[x],
+                                   &tr[x]);
                 }
             }
         }
