@@ -3,7 +3,8 @@
  *   bench_recovery truth BASE.json CATEGORY SEED OUT.json
  *       a ground-truth preset: BASE with the pattern type CATEGORY, every gene of that
  *       category moved by up to +-0.2 of its suggested range (and the automaton mutated),
- *       all from SEED
+ *       all from SEED; drawn again (up to 20 times) while its pattern is invisible
+ *       (sq_fit_pattern_visibility below 0.02)
  *   bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5
  *       how close a fitted preset is to the truth; distances are the fit's score (each
  *       objective over its NORM, summed), means over 4 seeds of the preset(s) rendered:
@@ -64,15 +65,23 @@ static int truth(const char *base, const char *category, long seed, const char *
     if (sq_genome_init(&g, cat, &e) != SQ_OK)
         return fail(&e);
     uint64_t r = 0x5eed0000u + (uint64_t)seed;
-    double x[SQ_GENOME_MAX];
-    sq_genome_encode(&g, &p, x);
-    for (int i = 0; i < g.n; i++)
-        x[i] += 0.4 * (uniform(&r) - 0.5);
-    sq_genome_decode(&g, x, &p);
-    if (g.has_ca)
-        for (int k = 0; k < 2; k++)
-            sq_gp_ca_point_mutate(&r, &p.CA_Descriptor);
-    p.Seed = (int)(seed % 100000);
+    double x0[SQ_GENOME_MAX], x[SQ_GENOME_MAX];
+    sq_genome_encode(&g, &p, x0);
+    const SqParams base_p = p;
+    /* a truth whose pattern nobody can see would be a plain skin: drawn again */
+    for (int tries = 0; tries < 20; tries++) {
+        p = base_p;
+        for (int i = 0; i < g.n; i++)
+            x[i] = x0[i] + 0.4 * (uniform(&r) - 0.5);
+        sq_genome_decode(&g, x, &p);
+        if (g.has_ca)
+            for (int k = 0; k < 2; k++)
+                sq_gp_ca_point_mutate(&r, &p.CA_Descriptor);
+        p.Seed = (int)(seed % 100000);
+        double dom[3];
+        if (cat == SQ_PATTERN_NONE || sq_fit_pattern_visibility(&p, SIZE, 0.5, dom, NULL) >= 0.02)
+            break;
+    }
     SqPresetInfo info = {0};
     snprintf(info.name, sizeof info.name, "recovery truth %s %ld", category, seed);
     snprintf(info.notes, sizeof info.notes, "%s, genes moved by up to 0.2 (bench_recovery)", base);

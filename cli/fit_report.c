@@ -184,6 +184,10 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
             "re-scored Pareto front with the lowest score, except that the simplest category within 5%% of it is "
             "preferred (plain, then stripes or bands, then spots, then automata: the simpler explanation). ");
+    if (r->plain_twin)
+        put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
+                "colour): best.json is its plain twin%s. ",
+            100 * r->visibility, r->nfront > 1 ? ", and the pattern itself is front/01.json" : "");
     if (r->polish_before > 0)
         put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");

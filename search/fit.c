@@ -24,6 +24,11 @@ static const double PARSIMONY = 0.05;
 /* The reaction-diffusion grid of the fit's complex candidates (RD_Cells). */
 enum { FIT_RD_CELLS = 48 };
 
+/* A pattern is visible when more than VISIBLE_MIN of the texels the fit looks at (the
+ * band around band_centre) differ from the skin's dominant colour by more than
+ * VISIBLE_DE (CIEDE2000, a difference anyone sees side by side). */
+static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
+
 /* The view scale gene: log scale over the grid's range. */
 static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
 
@@ -703,6 +708,104 @@ static int simplicity(int category)
     }
 }
 
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The visibility of one base colour map's band and its dominant (per-channel median) colour. */
+static double band_visibility(const SqImage *im, double band_centre, double dominant[3])
+{
+    const int w = im->width, h = im->height, ch = im->channels;
+    const int x0 = (int)floor((band_centre - SQ_FIT_BAND_WIDTH / 2) * w);
+    const int nx = (int)ceil(SQ_FIT_BAND_WIDTH * w);
+    const size_t n = (size_t)nx * (size_t)h;
+    float *v = malloc(sizeof(float) * n);
+    if (!v)
+        return -1;
+    float med[3];
+    for (int c = 0; c < 3; c++) {
+        size_t k = 0;
+        for (int y = 0; y < h; y++)
+            for (int i = 0; i < nx; i++) {
+                int x = ((x0 + i) % w + w) % w;
+                v[k++] = im->px[((size_t)y * w + x) * ch + c];
+            }
+        qsort(v, n, sizeof *v, cmp_float);
+        med[c] = v[n / 2];
+        dominant[c] = med[c];
+    }
+    free(v);
+    float lm[3];
+    sq_fit_srgb_to_lab(med, lm);
+    const double m[3] = {lm[0], lm[1], lm[2]};
+    size_t seen = 0;
+    for (int y = 0; y < h; y++)
+        for (int i = 0; i < nx; i++) {
+            int x = ((x0 + i) % w + w) % w;
+            float l[3];
+            sq_fit_srgb_to_lab(im->px + ((size_t)y * w + x) * ch, l);
+            const double d[3] = {l[0], l[1], l[2]};
+            seen += sq_fit_ciede2000(d, m) > VISIBLE_DE;
+        }
+    return (double)seen / (double)n;
+}
+
+double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre, double dominant[3],
+                                 SqError *err)
+{
+    SqParams plain = *p;
+    plain.Pattern_Type = SQ_PATTERN_NONE;
+    plain.Pattern_Layers.count = 0;
+    SqGenOptions go = sq_gen_options_default(size);
+    go.threads = 1;
+    SqTextures tp = {0}, tq = {0};
+    double vp = -1, vq = -1, dq[3];
+    if (sq_gen_render(p, &go, &tp, err) == SQ_OK && sq_gen_render(&plain, &go, &tq, err) == SQ_OK) {
+        vp = band_visibility(&tp.basecolor, band_centre, dominant);
+        vq = band_visibility(&tq.basecolor, band_centre, dq);
+        if (vp < 0 || vq < 0)
+            sq_error_set(err, SQ_ERR_NOMEM, "visibility", "out of memory");
+    }
+    sq_gen_textures_free(&tp);
+    sq_gen_textures_free(&tq);
+    if (vp < 0 || vq < 0)
+        return -1;
+    return vp - vq > 0 ? vp - vq : 0;
+}
+
+/* A champion whose pattern nobody can see is a plain skin: it becomes its plain twin (no
+ * pattern, no layers, the background its dominant colour), re-scored, and leads the front
+ * with the invisible original behind it. */
+static void plain_twin(Fit *f)
+{
+    SqFitResult *r = f->r;
+    SqFitCandidate *b = &r->best;
+    r->visibility = 0;
+    if (b->params.Pattern_Type == SQ_PATTERN_NONE && b->params.Pattern_Layers.count == 0)
+        return;
+    double dom[3];
+    r->visibility = sq_fit_pattern_visibility(&b->params, f->o.fine_size, f->o.band_centre, dom, NULL);
+    if (r->visibility < 0 || r->visibility >= VISIBLE_MIN)
+        return;
+    SqFitCandidate twin = *b;
+    twin.params.Pattern_Type = SQ_PATTERN_NONE;
+    twin.params.Pattern_Layers.count = 0;
+    for (int c = 0; c < 3; c++)
+        twin.params.Background_Color[c] = dom[c];
+    twin.params.Background_Color[3] = 1;
+    rescore(f, &twin, 1);
+    if (!isfinite(twin.score))
+        return;
+    int k = r->nfront < f->o.front_max ? r->nfront : r->nfront - 1;
+    memmove(r->front + 1, r->front, sizeof *r->front * (size_t)k);
+    r->front[0] = twin;
+    r->nfront = k + 1;
+    r->best = twin;
+    r->plain_twin = 1;
+}
+
 /* The niche to drop: the worst by its best candidate re-scored over JUDGE_SEEDS fresh
  * seeds (a niche's best single score is the luckiest of many noisy draws, and random
  * patterns draw far luckier minima than plain skins and stripes do); but of the niches
@@ -1153,6 +1256,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         out->seconds[3] = now() - t;
         report(&f, "polish", out->best.params.Pattern_Type);
     }
+    plain_twin(&f);
     out->evals = f.evals;
 
 done:

@@ -2,6 +2,7 @@
  * is a front, a plain skin is not mistaken for a pattern, the result does not depend on the
  * thread count, and a stop request still yields a result. */
 #include <math.h>
+#include <string.h>
 
 #include "sq_test.h"
 #include "squama/preset.h"
@@ -107,6 +108,60 @@ static void prefers_a_plain_skin(void **state)
     assert_int_equal(r.front[0].params.Pattern_Type, SQ_PATTERN_NONE);
     for (int c = 0; c < SQ_PATTERN_COUNT; c++) /* within 5% of every other category */
         assert_true(r.best.score <= 1.05 * r.category_score[c] + 1e-9);
+    sq_fit_result_free(&r);
+}
+
+/* Visibility: a pattern that shows, the same pattern in the ground's colour, no pattern. */
+static void visibility_measures_what_shows(void **state)
+{
+    (void)state;
+    char path[4096];
+    SqParams p;
+    SqError err;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
+                     SQ_OK);
+    double dom[3];
+    double v = sq_fit_pattern_visibility(&p, 128, 0.5, dom, &err);
+    printf("  spots %.3f\n", v);
+    assert_true(v > 0.05 && v <= 1);
+    memcpy(p.Spots_Color, p.Background_Color, sizeof p.Spots_Color);
+    v = sq_fit_pattern_visibility(&p, 128, 0.5, dom, &err);
+    printf("  spots in the ground's colour %.3f\n", v);
+    assert_true(v >= 0 && v < 0.02);
+    p.Pattern_Type = SQ_PATTERN_NONE;
+    assert_true(sq_fit_pattern_visibility(&p, 128, 0.5, dom, &err) == 0);
+    p.Color_NoiseIntensity = 0;
+    assert_int_equal(sq_fit_pattern_visibility(&p, 128, 0.5, dom, &err), 0);
+    for (int c = 0; c < 3; c++) /* the dominant colour of a plain skin is its background */
+        assert_true(fabs(dom[c] - p.Background_Color[c]) < 0.02);
+}
+
+/* Spots are all a fit may use on a plain skin: the spots it finds are invisible, and the
+ * champion is their plain twin, the spots kept behind it. */
+static void an_invisible_pattern_is_a_plain_skin(void **state)
+{
+    (void)state;
+    SqFitOptions o = small(2);
+    o.max_evals = 600;
+    o.categories = 1u << SQ_PATTERN_SPOTS;
+    SqFitResult r;
+    assert_int_equal(sq_fit_run(&plain, &o, &r, NULL), SQ_OK);
+    printf("  visibility %.3f, twin %d, category %s\n", r.visibility, r.plain_twin,
+           sq_pattern_type_name(r.best.params.Pattern_Type));
+    assert_int_equal(r.plain_twin, 1);
+    assert_true(r.visibility < 0.02);
+    assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_NONE);
+    assert_memory_equal(&r.front[0].params, &r.best.params, sizeof r.best.params);
+    assert_true(r.nfront >= 2);
+    assert_int_equal(r.front[1].params.Pattern_Type, SQ_PATTERN_SPOTS);
+    assert_true(isfinite(r.best.score));
+    sq_fit_result_free(&r);
+    /* and a visible pattern stays */
+    o.categories = 1u << SQ_PATTERN_LONGITUDINAL;
+    assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
+    assert_int_equal(r.plain_twin, 0);
+    assert_true(r.visibility >= 0.02);
+    assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
     sq_fit_result_free(&r);
 }
 
@@ -218,6 +273,8 @@ int main(void)
         cmocka_unit_test(recovers_category),
         cmocka_unit_test(prefers_a_plain_skin),
         cmocka_unit_test(categories_fitted),
+        cmocka_unit_test(visibility_measures_what_shows),
+        cmocka_unit_test(an_invisible_pattern_is_a_plain_skin),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

@@ -246,9 +246,19 @@ typedef struct SqFitResult {
     int stopped;             /* 1: the caller stopped the fit early */
     double polish_before, polish_after; /* champion score before and after the polish */
     int polish_kept;
+    double visibility;       /* the fitted pattern's visibility (sq_fit_pattern_visibility) */
+    int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
+
+/* How visible p's pattern is: the share of texels, in the band of the base colour map
+ * (size x size) centred on u = band_centre, that differ from the band's dominant colour by
+ * more than a CIEDE2000 of 5, less that share for p without its pattern and layers (so
+ * colour noise does not count). Below 0.02 nobody sees a pattern: the fit calls the skin
+ * plain. dominant (sRGB) receives the band's per-channel median colour. -1 on error. */
+double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre, double dominant[3],
+                                 SqError *err);
 
 /* Fits the generator to a target. On error nothing is allocated in out. */
 SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err);
