@@ -1,8 +1,8 @@
 /* The recovery benchmark's two measuring tools (bench/recovery.py drives them):
  *
  *   bench_recovery truth BASE.json CATEGORY SEED OUT.json
- *       a ground-truth preset: BASE with the pattern type CATEGORY, every gene of that
- *       category moved by up to +-0.2 of its suggested range (and the automaton mutated),
+ *       a ground-truth preset: BASE with the pattern type CATEGORY (or, for "layered",
+ *       BASE's own base and layer types), every gene of that kind moved by up to +-0.2 of its suggested range (and the automaton mutated),
  *       all from SEED; drawn again (up to 20 times) while its pattern is invisible
  *       (sq_fit_pattern_visibility below 0.02)
  *   bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5
@@ -54,15 +54,15 @@ static int truth(const char *base, const char *category, long seed, const char *
     if (sq_preset_load(base, &p, NULL, &e) != SQ_OK)
         return fail(&e);
     int cat = -1;
-    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
-        if (strcmp(sq_pattern_type_name(c), category) == 0)
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
+        if (strcmp(sq_fit_kind_name(c), category) == 0)
             cat = c;
     SqGenome g;
-    if (cat < 0) {
-        fprintf(stderr, "bench_recovery: unknown category '%s'\n", category);
+    if (cat < 0 || (cat == SQ_FIT_LAYERED) != (sq_fit_kind_of(&p) == SQ_FIT_LAYERED)) {
+        fprintf(stderr, "bench_recovery: unknown kind '%s', or a layered kind without a layered base\n", category);
         return 1;
     }
-    if (sq_genome_init(&g, cat, &e) != SQ_OK)
+    if ((cat == SQ_FIT_LAYERED ? sq_genome_of(&g, &p, &e) : sq_genome_init(&g, cat, &e)) != SQ_OK)
         return fail(&e);
     uint64_t r = 0x5eed0000u + (uint64_t)seed;
     double x0[SQ_GENOME_MAX], x[SQ_GENOME_MAX];

@@ -31,10 +31,11 @@ import sys
 import time
 
 # The first SIMPLE_ROWS truths cycle through the five simple categories, as they did before
-# the complex patterns landed (so earlier runs stay comparable); complex truths follow.
+# the complex patterns landed (so earlier runs stay comparable); complex and layered truths follow.
 SIMPLE = ["none", "longitudinal", "transversal", "spots", "other_simple"]
 SIMPLE_ROWS = 30
-CATEGORIES = SIMPLE + ["complex"]
+CATEGORIES = SIMPLE + ["complex", "layered"]
+COMPLEX_ROWS = 6
 BASES = {
     "none": ["d11_five_lined_skink.json", "table_4_4_spots.json"],
     "longitudinal": ["d11_five_lined_skink.json", "table_4_3_longitudinal.json"],
@@ -43,6 +44,7 @@ BASES = {
     "other_simple": ["figure_4_9_other_simple.json"],
     "complex": ["../complex/viper_blotches.json", "../complex/boa_saddles.json", "../complex/cheetah.json",
                 "../complex/leopard.json", "../complex/python_reticulated.json", "../complex/giraffe.json"],
+    "layered": ["../layered/garter_snake.json", "../layered/banded_flecked.json"],
 }
 
 
@@ -50,7 +52,9 @@ def category_of(i):
     """The category of truth i and which of its bases it uses."""
     if i < SIMPLE_ROWS:
         return SIMPLE[i % len(SIMPLE)], i // len(SIMPLE)
-    return "complex", i - SIMPLE_ROWS
+    if i < SIMPLE_ROWS + COMPLEX_ROWS:
+        return "complex", i - SIMPLE_ROWS
+    return "layered", i - SIMPLE_ROWS - COMPLEX_ROWS
 BASELINES = ["random", "esch", "crs2", "isres"]
 
 
@@ -121,8 +125,8 @@ def main():
     ap.add_argument("--squama", required=True)
     ap.add_argument("--tool", required=True)
     ap.add_argument("--presets", required=True)
-    ap.add_argument("--n", type=int, default=36,
-                    help="ground truths (default 36: 30 of the simple categories, then 6 complex)")
+    ap.add_argument("--n", type=int, default=38,
+                    help="ground truths (default 38: 30 of the simple categories, 6 complex, 2 layered)")
     ap.add_argument("--budget", default="60s", help="squama's time budget per photo (default 60s)")
     ap.add_argument("--evals", type=int, default=0,
                     help="an evaluation budget per photo instead of --budget: deterministic, the "

@@ -53,9 +53,9 @@ static const char help[] =
     "      --size N         size of the written maps (default 1024)\n"
     "      --resume DIR     start from the front in DIR/checkpoint with the budget left\n"
     "      --method M       squama (default), or a baseline: random, esch, crs2, isres\n"
-    "      --categories L   only these pattern types, comma-separated (default: all six;\n"
-    "                       e.g. none,longitudinal,transversal,spots,other_simple skips the\n"
-    "                       costly reaction-diffusion of complex)\n"
+    "      --categories L   only these kinds, comma-separated: none, longitudinal,\n"
+    "                       transversal, spots, other_simple, complex (reaction-diffusion),\n"
+    "                       layered (a pattern under a layer of another); default all seven\n"
     "      --work-size N    longest side the photo is prepared at (default 1024)\n"
     "  -q, --quiet          no progress and no summary\n"
     "      --json           progress as JSON lines on stdout, then a summary object\n"
@@ -161,7 +161,7 @@ static void progress(const SqFitProgress *p, void *ctx)
         printf("{\"stage\": \"%s\", \"generation\": %d, \"evaluations\": %ld, \"seconds\": %.2f, "
                "\"evaluations_per_s\": %.1f, \"best_score\": %.4f, \"category\": \"%s\"}\n",
                p->stage, p->generation, p->evals, p->elapsed, rate, p->best_score,
-               sq_pattern_type_name(p->category));
+               sq_fit_kind_name(p->category));
         fflush(stdout);
         return;
     }
@@ -181,7 +181,7 @@ static void progress(const SqFitProgress *p, void *ctx)
         snprintf(left, sizeof left, "%3.0fs left", fmax(0, x->budget - p->elapsed));
     fprintf(stderr, "\r[%s] %-7s gen %4d  %6ld evals %5.0f/s  best %.3f (pal %.2f shape %.2f along %.2f) %-12s %s\033[K",
             bar, p->stage, p->generation, p->evals, rate, p->best_score, p->best[SQ_OBJ_PALETTE],
-            p->best[SQ_OBJ_SHAPE], p->best[SQ_OBJ_ALONG], sq_pattern_type_name(p->category), left);
+            p->best[SQ_OBJ_SHAPE], p->best[SQ_OBJ_ALONG], sq_fit_kind_name(p->category), left);
     fflush(stderr);
 }
 
@@ -370,7 +370,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "the front member with the lowest score: the sum over objectives of each "
                             "objective divided by its median over the screening (norm); the simplest "
                             "category within 5% of that score is preferred (none, then longitudinal "
-                            "or transversal, then spots, then other_simple, then complex), being the simpler "
+                            "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
                             "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
                             "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "
                             "the champion becomes its plain twin");
@@ -379,15 +379,19 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));
-    cJSON_AddStringToObject(root, "category", sq_pattern_type_name(r->best.params.Pattern_Type));
+    cJSON_AddStringToObject(root, "category", sq_fit_kind_name(sq_fit_kind_of(&r->best.params)));
+    cJSON *pt = cJSON_AddArrayToObject(root, "pattern_types"); /* the base's, then each layer's */
+    cJSON_AddItemToArray(pt, cJSON_CreateString(sq_pattern_type_name(r->best.params.Pattern_Type)));
+    for (int l = 0; l < r->best.params.Pattern_Layers.count; l++)
+        cJSON_AddItemToArray(pt, cJSON_CreateString(sq_pattern_type_name(r->best.params.Pattern_Layers.layer[l].spec.Pattern_Type)));
     cJSON *cs = cJSON_AddObjectToObject(root, "category_scores");
-    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
         if (isfinite(r->category_score[c]))
-            cJSON_AddItemToObject(cs, sq_pattern_type_name(c), sq__json_exact_number(r->category_score[c]));
+            cJSON_AddItemToObject(cs, sq_fit_kind_name(c), sq__json_exact_number(r->category_score[c]));
     cJSON *ni = cJSON_AddArrayToObject(root, "niches");
-    for (int c = 0; c < SQ_PATTERN_COUNT; c++)
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
         if (r->niche[c])
-            cJSON_AddItemToArray(ni, cJSON_CreateString(sq_pattern_type_name(c)));
+            cJSON_AddItemToArray(ni, cJSON_CreateString(sq_fit_kind_name(c)));
     cJSON *po = cJSON_AddObjectToObject(root, "polish");
     cJSON_AddItemToObject(po, "score_before", sq__json_exact_number(r->polish_before));
     cJSON_AddItemToObject(po, "score_after", sq__json_exact_number(r->polish_after));
@@ -397,7 +401,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON *e = cJSON_CreateObject();
         snprintf(path, sizeof path, "front/%02d.json", i);
         cJSON_AddStringToObject(e, "preset", path);
-        cJSON_AddStringToObject(e, "category", sq_pattern_type_name(r->front[i].params.Pattern_Type));
+        cJSON_AddStringToObject(e, "category", sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)));
         cJSON_AddItemToObject(e, "objectives", objectives_json(r->front[i].obj));
         cJSON_AddItemToObject(e, "score", sq__json_exact_number(r->front[i].score));
         cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(r->front[i].view_scale));
@@ -495,13 +499,13 @@ int cmd_fit(int argc, char **argv)
             snprintf(list, sizeof list, "%s", optarg);
             for (char *save = NULL, *name = strtok_r(list, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
                 int found = -1;
-                for (int k = 0; k < SQ_PATTERN_COUNT; k++)
-                    if (strcmp(name, sq_pattern_type_name(k)) == 0)
+                for (int k = 0; k < SQ_FIT_KINDS; k++)
+                    if (strcmp(name, sq_fit_kind_name(k)) == 0)
                         found = k;
                 if (found < 0)
                     return cli_usage("fit",
-                                     "--categories takes pattern types among none, longitudinal, transversal, "
-                                     "spots, other_simple, complex; got '%s'",
+                                     "--categories takes kinds among none, longitudinal, transversal, "
+                                     "spots, other_simple, complex, layered; got '%s'",
                                      name);
                 fo.categories |= 1u << found;
             }
@@ -545,7 +549,7 @@ int cmd_fit(int argc, char **argv)
         if (fo.categories) { /* the checkpoint's presets of categories left out stay behind */
             int kept = 0;
             for (int i = 0; i < fo.nseeds; i++)
-                if ((fo.categories >> seeds[i].params.Pattern_Type) & 1u)
+                if ((fo.categories >> sq_fit_kind_of(&seeds[i].params)) & 1u)
                     seeds[kept++] = seeds[i];
             if (kept < fo.nseeds && !x.quiet)
                 fprintf(stderr, "squama: %d of the checkpoint's %d presets are of categories left out\n",
@@ -598,11 +602,11 @@ int cmd_fit(int argc, char **argv)
     if (rc == CLI_OK && x.json) {
         printf("{\"best\": \"%s/best.json\", \"report\": \"%s/report.html\", \"category\": \"%s\", "
                "\"score\": %.4f, \"view_scale\": %.3f, \"evaluations\": %ld, \"seconds\": %.1f, \"stopped_early\": %s}\n",
-               outdir, outdir, sq_pattern_type_name(res.best.params.Pattern_Type), res.best.score,
+               outdir, outdir, sq_fit_kind_name(sq_fit_kind_of(&res.best.params)), res.best.score,
                res.best.view_scale, res.evals, total, res.stopped ? "true" : "false");
     } else if (rc == CLI_OK && !x.quiet) {
         printf("%s: %s pattern, score %.3f, view scale %.2f; %ld evaluations in %.1f s (%.0f/s)%s\n",
-               photo_path, sq_pattern_type_name(res.best.params.Pattern_Type), res.best.score,
+               photo_path, sq_fit_kind_name(sq_fit_kind_of(&res.best.params)), res.best.score,
                res.best.view_scale, res.evals, total, res.evals / fmax(total, 1e-9),
                res.stopped ? ", stopped early" : "");
         printf("  objectives:");

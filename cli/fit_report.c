@@ -139,7 +139,7 @@ static void front_svg(Buf *b, const SqFitResult *r, int ox, int oy)
         double py = MT + ph * (y1 - r->front[i].obj[oy]) / (y1 - y0);
         put(b, "<circle cx='%.1f' cy='%.1f' r='%d' fill='%s' fill-opacity='0.8'><title>front/%02d.json (%s), score %.3f</title></circle>\n",
             px, py, i == 0 ? 7 : 4, i == 0 ? "#27ae60" : "#2c3e80", i,
-            sq_pattern_type_name(r->front[i].params.Pattern_Type), r->front[i].score);
+            sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)), r->front[i].score);
     }
     put(b, "</svg>\n");
 }
@@ -160,7 +160,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     put_escaped(&b, photo_path);
     put(&b, ": <b>%s</b> pattern, score %.3f, view scale %.2f body circumferences per texture tile. "
             "%ld evaluations in %.1f s (%.0f per second)%s.</p>\n",
-        sq_pattern_type_name(r->best.params.Pattern_Type), r->best.score, r->best.view_scale, r->evals,
+        sq_fit_kind_name(sq_fit_kind_of(&r->best.params)), r->best.score, r->best.view_scale, r->evals,
         total_s, r->evals / fmax(total_s, 1e-9), r->stopped ? "; <b>stopped early</b>" : "");
     put(&b, "<div>\n");
     static const char *const pics[][2] = {
@@ -183,7 +183,8 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     put(&b, "<td></td></tr></table>\n");
     put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
             "re-scored Pareto front with the lowest score, except that the simplest category within 5%% of it is "
-            "preferred (plain, then stripes or bands, then spots, then automata: the simpler explanation). ");
+            "preferred (plain, then stripes or bands, then spots, then automata, then layered patterns, then "
+            "reaction-diffusion: the simpler explanation). ");
     if (r->plain_twin)
         put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
                 "colour): best.json is its plain twin%s. ",
@@ -194,10 +195,10 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     else
         put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
     put(&b, "<h2>Categories</h2>\n<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
-    for (int c = 0; c < SQ_PATTERN_COUNT; c++) {
+    for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))
             continue;
-        put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_pattern_type_name(c),
+        put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_fit_kind_name(c),
             r->category_score[c], r->survivor[c] ? "to the end" : r->niche[c] ? "dropped on the way" : "");
     }
     put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
@@ -210,7 +211,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     put(&b, "<th>score</th></tr>\n");
     for (int i = 0; i < r->nfront; i++) {
         put(&b, "<tr><td class='l'><a href='front/%02d.json'>front/%02d.json</a></td><td class='l'>%s</td><td>%.2f</td>", i, i,
-            sq_pattern_type_name(r->front[i].params.Pattern_Type), r->front[i].view_scale);
+            sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)), r->front[i].view_scale);
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
         put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);

@@ -262,11 +262,11 @@ static const SqParamSpec table[] = {
     {.name = "Layer_Blend", .type = SQ_PT_ENUM, .offset = L(Layer_Blend),
      .choices = sq_layer_blend_names, .def = {SQ_BLEND_NORMAL}, .min = 0,
      .max = SQ_BLEND_COUNT - 1, .smin = 0, .smax = SQ_BLEND_COUNT - 1,
-     .flags = SQ_PF_LAYER | SQ_PF_NOSEARCH, .group = "pattern layers",
+     .flags = SQ_PF_LAYER, .group = "pattern layers",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "W3C Compositing, separable blend modes",
      .help = "in a layer: how it meets the colours below: normal, multiply, screen, overlay"},
     {.name = "Layer_Opacity", .type = SQ_PT_FLOAT, .offset = L(Layer_Opacity), .def = {1},
-     UNIT, .flags = SQ_PF_LAYER | SQ_PF_NOSEARCH, .group = "pattern layers",
+     UNIT, .flags = SQ_PF_LAYER, .group = "pattern layers",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "",
      .help = "in a layer: 0 changes nothing, 1 the full blend"},
 

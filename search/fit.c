@@ -14,7 +14,7 @@
 enum {
     STRIP_ROWS = 256,       /* candidate strip length, as sq_fit_score uses */
     ARCHIVE_MAX = 64,
-    CATEGORIES = SQ_PATTERN_COUNT /* the categories the generator can make */
+    CATEGORIES = SQ_FIT_KINDS /* the kinds of skin the fit tells apart (sq_fit_kind_of) */
 };
 
 /* A simpler category (see simplicity()) scoring within this fraction of the best is
@@ -87,6 +87,16 @@ const char *sq_fit_method_name(SqFitMethod m)
 {
     static const char *const names[] = {"squama", "random", "esch", "crs2", "isres"};
     return (unsigned)m < sizeof names / sizeof names[0] ? names[m] : "?";
+}
+
+int sq_fit_kind_of(const SqParams *p)
+{
+    return p->Pattern_Layers.count > 0 ? SQ_FIT_LAYERED : p->Pattern_Type;
+}
+
+const char *sq_fit_kind_name(int kind)
+{
+    return kind == SQ_FIT_LAYERED ? "layered" : sq_pattern_type_name(kind);
 }
 
 void sq_fit_result_free(SqFitResult *r)
@@ -269,7 +279,7 @@ static void report(Fit *f, const char *stage, int category)
 /* ---- stage 1: screening ---- */
 
 /* The colour parameters a category paints its pattern with. */
-static double *pattern_colours(SqParams *p, int category, double **list)
+static double *pattern_colours(SqPatternSpec *p, int category, double **list)
 {
     int n = 0;
     switch (category) {
@@ -309,13 +319,18 @@ static void colours_from_palette(Fit *f, SqParams *p, int category)
         bg = 1;
     set_colour(f, p->Background_Color, bg);
     double *list[8];
-    pattern_colours(p, category, list);
-    for (int i = 0; list[i]; i++) {
-        int k = bg;
-        if (f->npal > 1)
-            while (k == bg)
-                k = sq__rng_int(&f->rng, f->npal);
-        set_colour(f, list[i], k);
+    pattern_colours(&p->pattern, category, list);
+    for (int l = 0; l <= p->Pattern_Layers.count; l++) {
+        if (l > 0) /* a layer's pattern: other palette colours than the ground's too */
+            pattern_colours(&p->Pattern_Layers.layer[l - 1].spec, p->Pattern_Layers.layer[l - 1].spec.Pattern_Type,
+                            list);
+        for (int i = 0; list[i]; i++) {
+            int k = bg;
+            if (f->npal > 1)
+                while (k == bg)
+                    k = sq__rng_int(&f->rng, f->npal);
+            set_colour(f, list[i], k);
+        }
     }
     /* the outline: the darkest palette colour */
     int dark = 0;
@@ -400,17 +415,23 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
     }
     int k = 0;
-    for (int cat = 0; cat < CATEGORIES; cat++) {
+    for (int kind = 0; kind < CATEGORIES; kind++) {
         SqGenome g;
-        if (!fitted(&f->o, cat))
+        if (!fitted(&f->o, kind))
             continue;
-        if (sq_genome_init(&g, cat, err) != SQ_OK) {
-            free(c);
-            free(col);
-            return err ? err->status : SQ_ERR_INTERNAL;
-        }
-        for (int i = 0; i < per; i++)
+        for (int i = 0; i < per; i++) {
+            int base = kind, layer = -1;
+            while (kind == SQ_FIT_LAYERED && !sq_genome_layerable(base, layer)) { /* a pair at random */
+                base = sq__rng_int(&f->rng, SQ_PATTERN_COUNT);
+                layer = sq__rng_int(&f->rng, SQ_PATTERN_COUNT);
+            }
+            if ((i == 0 || kind == SQ_FIT_LAYERED) && sq_genome_init_layered(&g, base, layer, err) != SQ_OK) {
+                free(c);
+                free(col);
+                return err ? err->status : SQ_ERR_INTERNAL;
+            }
             random_candidate(f, &g, &c[k++]);
+        }
     }
     for (int i = 0; i < f->o.nseeds; i++)
         c[k++] = f->o.seeds[i];
@@ -426,11 +447,11 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         f->r->norm[o] = med > 1e-9 ? med : 1e-9;
     }
     free(col);
-    for (int i = 0; i < SQ_PATTERN_COUNT; i++)
+    for (int i = 0; i < CATEGORIES; i++)
         f->r->category_score[i] = INFINITY;
     for (int i = 0; i < n; i++) {
         score_of(f, &c[i]);
-        int cat = c[i].params.Pattern_Type;
+        int cat = sq_fit_kind_of(&c[i].params);
         f->r->category_score[cat] = fmin(f->r->category_score[cat], c[i].score);
     }
     qsort(c, (size_t)n, sizeof *c, cmp_score);
@@ -468,16 +489,17 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
 {
     memset(z, 0, sizeof *z);
     z->category = category;
-    SqStatus st = sq_genome_init(&z->g, category, err);
-    if (st != SQ_OK)
-        return st;
-    z->n = z->g.n + 1;
     const SqFitCandidate *start = NULL;
     for (int i = 0; i < ns && !start; i++)
-        if (screened[i].params.Pattern_Type == category)
+        if (sq_fit_kind_of(&screened[i].params) == category)
             start = &screened[i];
     if (!start)
         return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no screened candidate of a niche");
+    /* the layered niche searches the pair of its best screened candidate */
+    SqStatus st = sq_genome_of(&z->g, &start->params, err);
+    if (st != SQ_OK)
+        return st;
+    z->n = z->g.n + 1;
     z->best = *start;
     double x0[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
     int levels[SQ_GENOME_MAX + 1];
@@ -514,7 +536,7 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
             return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
         z->pool_cap = l;
         for (int i = 0; i < ns && z->npool < l; i++)
-            if (screened[i].params.Pattern_Type == category)
+            if (screened[i].params.Pattern_Type == SQ_PATTERN_OTHER_SIMPLE)
                 z->pool[z->npool++] = screened[i];
     }
     return SQ_OK;
@@ -694,8 +716,9 @@ static void rescore(Fit *f, SqFitCandidate *c, int n)
     rescore_over(f, c, n, f->o.reseeds, f->o.fine_size, 7919);
 }
 
-/* How simple an explanation a category is: a plain skin, then stripes or bands, then
- * spots, then an automaton (which can imitate the others), then complex patterns. */
+/* How simple an explanation a kind is: a plain skin, then stripes or bands, then spots,
+ * then an automaton (which can imitate the others), then two patterns layered, then
+ * reaction-diffusion. */
 static int simplicity(int category)
 {
     switch (category) {
@@ -704,7 +727,8 @@ static int simplicity(int category)
     case SQ_PATTERN_TRANSVERSAL: return 1;
     case SQ_PATTERN_SPOTS: return 2;
     case SQ_PATTERN_OTHER_SIMPLE: return 3;
-    default: return 4;
+    case SQ_FIT_LAYERED: return 4;
+    default: return 5;
     }
 }
 
@@ -889,7 +913,7 @@ static double polish_objective(unsigned n, const double *y, double *grad, void *
 static void polish(Fit *f, SqFitCandidate *champ)
 {
     SqGenome g;
-    if (sq_genome_init(&g, champ->params.Pattern_Type, NULL) != SQ_OK)
+    if (sq_genome_of(&g, &champ->params, NULL) != SQ_OK)
         return;
     Polish p = {.f = f, .g = &g, .base = *champ};
     sq_genome_encode(&g, &champ->params, p.x);
@@ -970,7 +994,7 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
 {
     SqGenome g;
     *out = *start;
-    if (sq_genome_init(&g, start->params.Pattern_Type, NULL) != SQ_OK)
+    if (sq_genome_of(&g, &start->params, NULL) != SQ_OK)
         return;
     int n = g.n + 1;
     Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed};
@@ -1050,23 +1074,23 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
                             "are out of range",
                             (int)CATEGORIES);
     if ((o->categories >> CATEGORIES) != 0)
-        return sq_error_set(err, SQ_ERR_INVALID, "fit", "the categories name a pattern type beyond the %d there are",
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "the categories name a kind beyond the %d there are",
                             (int)CATEGORIES);
     if (o->nseeds < 0 || (o->nseeds > 0 && !o->seeds))
         return sq_error_set(err, SQ_ERR_INVALID, "fit", "seed candidates missing");
     for (int i = 0; i < o->nseeds; i++) {
-        int t = o->seeds[i].params.Pattern_Type;
-        if (t < 0 || t >= CATEGORIES)
-            return sq_error_set(err, SQ_ERR_INVALID, "fit",
-                                "a starting preset has pattern type %d, which is none of the %d there are", t,
-                                (int)CATEGORIES);
         SqStatus st = sq_params_validate(&o->seeds[i].params, err);
         if (st != SQ_OK)
             return st;
+        SqGenome g;
+        if (sq_genome_of(&g, &o->seeds[i].params, err) != SQ_OK)
+            return sq_error_set(err, SQ_ERR_INVALID, "fit", "a starting preset cannot be searched: %s",
+                                err ? err->what : "");
+        int t = sq_fit_kind_of(&o->seeds[i].params);
         if (!fitted(o, t))
             return sq_error_set(err, SQ_ERR_INVALID, "fit",
-                                "a starting preset has pattern type \"%s\", which this fit leaves out",
-                                sq_pattern_type_name(t));
+                                "a starting preset is of the kind \"%s\", which this fit leaves out",
+                                sq_fit_kind_name(t));
     }
     return SQ_OK;
 }
@@ -1104,18 +1128,18 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
         const SqFitCandidate *c = &fin[i];
         if (!isfinite(c->score) || c->score > (1 + PARSIMONY) * r->front[0].score)
             continue;
-        int rc = simplicity(c->params.Pattern_Type), rs = simple ? simplicity(simple->params.Pattern_Type) : 99;
+        int rc = simplicity(sq_fit_kind_of(&c->params)), rs = simple ? simplicity(sq_fit_kind_of(&simple->params)) : 99;
         if (rc < rs || (rc == rs && c->score < simple->score))
             simple = c;
     }
-    if (simple && simplicity(simple->params.Pattern_Type) < simplicity(r->front[0].params.Pattern_Type)) {
+    if (simple && simplicity(sq_fit_kind_of(&simple->params)) < simplicity(sq_fit_kind_of(&r->front[0].params))) {
         const SqFitCandidate lead = *simple;
         int k = r->nfront < nfin ? r->nfront : nfin - 1;
         memmove(r->front + 1, r->front, sizeof *r->front * (size_t)k);
         r->front[0] = lead;
         r->nfront = k + 1;
         for (int i = 1; i < r->nfront; i++) /* once only */
-            if (r->front[i].params.Pattern_Type == lead.params.Pattern_Type && r->front[i].score == lead.score &&
+            if (sq_fit_kind_of(&r->front[i].params) == sq_fit_kind_of(&lead.params) && r->front[i].score == lead.score &&
                 r->front[i].view_scale == lead.view_scale) {
                 memmove(r->front + i, r->front + i + 1, sizeof *r->front * (size_t)(r->nfront - i - 1));
                 r->nfront--;
@@ -1126,10 +1150,10 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
         r->nfront = f->o.front_max;
     r->best = r->front[0];
     /* the categories' scores: re-scored values only (screening scores are noisier) */
-    for (int i = 0; i < SQ_PATTERN_COUNT; i++)
+    for (int i = 0; i < CATEGORIES; i++)
         r->category_score[i] = INFINITY;
     for (int i = 0; i < nfin; i++) {
-        int cat = fin[i].params.Pattern_Type;
+        int cat = sq_fit_kind_of(&fin[i].params);
         r->category_score[cat] = fmin(r->category_score[cat], fin[i].score);
     }
     return SQ_OK;
@@ -1164,7 +1188,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     if (st != SQ_OK)
         goto done;
     out->seconds[0] = now() - t;
-    report(&f, "screen", screened[0].params.Pattern_Type);
+    report(&f, "screen", sq_fit_kind_of(&screened[0].params));
 
     /* 2. evolution: every category is a niche at first; after each round of ROUND
      * generations per niche the worst (by its best score) is dropped, until o->niches
@@ -1214,11 +1238,11 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             out->survivor[niches[i].category] = alive[i];
         }
     } else {
-        out->niche[screened[0].params.Pattern_Type] = 1;
-        out->survivor[screened[0].params.Pattern_Type] = 1;
+        out->niche[sq_fit_kind_of(&screened[0].params)] = 1;
+        out->survivor[sq_fit_kind_of(&screened[0].params)] = 1;
         run_baseline(&f, &screened[0], &fin[nfin++]);
         f.generation++;
-        report(&f, "evolve", screened[0].params.Pattern_Type);
+        report(&f, "evolve", sq_fit_kind_of(&screened[0].params));
     }
     out->seconds[1] = now() - t;
     out->stopped = o->stop && *o->stop;
@@ -1241,7 +1265,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     if (st != SQ_OK)
         goto done;
     out->seconds[2] = now() - t;
-    report(&f, "rescore", out->best.params.Pattern_Type);
+    report(&f, "rescore", sq_fit_kind_of(&out->best.params));
     if (o->polish && o->method == SQ_FIT_SQUAMA && !out->stopped) {
         t = now();
         polish(&f, &out->best);
@@ -1254,7 +1278,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         }
         out->front[0] = out->best;
         out->seconds[3] = now() - t;
-        report(&f, "polish", out->best.params.Pattern_Type);
+        report(&f, "polish", sq_fit_kind_of(&out->best.params));
     }
     plain_twin(&f);
     out->evals = f.evals;

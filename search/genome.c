@@ -8,10 +8,12 @@
 #include "squama/search.h"
 
 /* Parameters every category searches. Roughness reaches a photo as the gloss of its
- * highlights, which candidate strips draw. */
+ * highlights, which candidate strips draw; the scale layout (grid or Voronoi) as the
+ * relief's shading. */
 static const char *const common[] = {
     "Background_Color", "Color_NoiseIntensity", "Scales_XAmount", "Scales_YAmount",
-    "ScaleShape_IsKeeled", "Scales_RoughnessMin", "Scales_RoughnessMax", NULL,
+    "ScaleShape_IsKeeled", "Scales_RoughnessMin", "Scales_RoughnessMax", "Scales_Layout",
+    "Scales_VoronoiAnisotropy", NULL,
 };
 
 /* The pattern post-process and the outline, for every category with a pattern. */
@@ -48,13 +50,17 @@ static const char *const complex_rd[] = {
     "RD_Threshold1", "RD_Color2", "RD_Threshold2", "RD_Color3", "RD_Softness", NULL,
 };
 
+/* A layer's own settings, for the layered kind's one layer. */
+static const char *const layer_own[] = {"Layer_Blend", "Layer_Opacity", NULL};
+
 /* Integers with at most this many values in their suggested range are discrete genes. */
 enum { DISCRETE_MAX = 16 };
 
-static int add_param(SqGenome *g, const char *name)
+static int add_param(SqGenome *g, const char *name, int layer)
 {
     const SqParamSpec *s = sq_params_find(name);
-    if (!s || (s->flags & SQ_PF_NOSEARCH))
+    if (!s || (s->flags & SQ_PF_NOSEARCH) || (layer >= 0 && !sq_param_in_layer(s)) ||
+        (layer < 0 && (s->flags & SQ_PF_LAYER)))
         return -1;
     int comps = s->type == SQ_PT_COLOR ? 3 /* alpha is not searched */ : sq_param_components(s->type);
     for (int c = 0; c < comps; c++) {
@@ -64,6 +70,7 @@ static int add_param(SqGenome *g, const char *name)
         memset(e, 0, sizeof *e);
         e->spec = s;
         e->comp = c;
+        e->layer = layer;
         e->lo = s->smin;
         e->hi = s->smax;
         switch (s->type) {
@@ -95,48 +102,89 @@ static int add_param(SqGenome *g, const char *name)
     return 0;
 }
 
-static int add_list(SqGenome *g, const char *const *names)
+static int add_list(SqGenome *g, const char *const *names, int layer)
 {
     for (int i = 0; names[i]; i++)
-        if (add_param(g, names[i]) != 0)
+        if (add_param(g, names[i], layer) != 0)
             return -1;
     return 0;
 }
 
+/* A category's own genes (NULL for a plain skin); -1 for a category without a genome. */
+static int own_genes(int category, const char *const **own)
+{
+    switch (category) {
+    case SQ_PATTERN_NONE: *own = NULL; return 0;
+    case SQ_PATTERN_LONGITUDINAL: *own = longitudinal; return 0;
+    case SQ_PATTERN_TRANSVERSAL: *own = transversal; return 0;
+    case SQ_PATTERN_SPOTS: *own = spots; return 0;
+    case SQ_PATTERN_OTHER_SIMPLE: *own = other_simple; return 0;
+    case SQ_PATTERN_COMPLEX: *own = complex_rd; return 0;
+    default: return -1;
+    }
+}
+
 SqStatus sq_genome_init(SqGenome *g, int category, SqError *err)
+{
+    return sq_genome_init_layered(g, category, -1, err);
+}
+
+int sq_genome_layerable(int base, int layer)
+{
+    return base != layer &&
+           (base == SQ_PATTERN_LONGITUDINAL || base == SQ_PATTERN_TRANSVERSAL || base == SQ_PATTERN_SPOTS ||
+            base == SQ_PATTERN_OTHER_SIMPLE) &&
+           (layer == SQ_PATTERN_LONGITUDINAL || layer == SQ_PATTERN_TRANSVERSAL || layer == SQ_PATTERN_SPOTS);
+}
+
+SqStatus sq_genome_init_layered(SqGenome *g, int category, int layer, SqError *err)
 {
     memset(g, 0, sizeof *g);
     g->category = category;
-    const char *const *own = NULL;
-    switch (category) {
-    case SQ_PATTERN_NONE: break;
-    case SQ_PATTERN_LONGITUDINAL: own = longitudinal; break;
-    case SQ_PATTERN_TRANSVERSAL: own = transversal; break;
-    case SQ_PATTERN_SPOTS: own = spots; break;
-    case SQ_PATTERN_OTHER_SIMPLE:
-        own = other_simple;
-        g->has_ca = 1;
-        break;
-    case SQ_PATTERN_COMPLEX: own = complex_rd; break;
-    default:
-        return sq_error_set(err, SQ_ERR_UNSUPPORTED, "genome",
-                            "pattern type \"%s\" has no genome yet", sq_pattern_type_name(category));
-    }
-    if (add_list(g, common) || (own && (add_list(g, own) || add_list(g, pattern_common))))
+    g->layer_category = -1;
+    const char *const *own = NULL, *const *lown = NULL;
+    if (own_genes(category, &own) != 0)
+        return sq_error_set(err, SQ_ERR_UNSUPPORTED, "genome", "pattern type \"%s\" has no genome yet",
+                            sq_pattern_type_name(category));
+    if (layer >= 0 && (!sq_genome_layerable(category, layer) || own_genes(layer, &lown) != 0))
+        return sq_error_set(err, SQ_ERR_UNSUPPORTED, "genome", "no layered genome for %s under %s",
+                            sq_pattern_type_name(category), sq_pattern_type_name(layer));
+    g->has_ca = category == SQ_PATTERN_OTHER_SIMPLE;
+    if (add_list(g, common, -1) || (own && (add_list(g, own, -1) || add_list(g, pattern_common, -1))))
         return sq_error_set(err, SQ_ERR_INTERNAL, "genome", "the gene list names a parameter the table lacks");
+    if (layer >= 0) {
+        g->layer_category = layer;
+        if (add_list(g, lown, 0) || add_list(g, layer_own, 0))
+            return sq_error_set(err, SQ_ERR_INTERNAL, "genome", "too many genes, or a layer gene the table lacks");
+    }
     return SQ_OK;
+}
+
+SqStatus sq_genome_of(SqGenome *g, const SqParams *p, SqError *err)
+{
+    if (p->Pattern_Layers.count == 0)
+        return sq_genome_init(g, p->Pattern_Type, err);
+    if (p->Pattern_Layers.count > 1)
+        return sq_error_set(err, SQ_ERR_UNSUPPORTED, "genome", "the fit searches one pattern layer, not %d",
+                            p->Pattern_Layers.count);
+    return sq_genome_init_layered(g, p->Pattern_Type, p->Pattern_Layers.layer[0].spec.Pattern_Type, err);
+}
+
+static void *gene_ptr(const SqGene *e, SqParams *p)
+{
+    return e->layer >= 0 ? sq_param_layer_ptr(&p->Pattern_Layers.layer[e->layer], e->spec) : sq_param_ptr(p, e->spec);
 }
 
 static double *field(const SqGene *e, SqParams *p)
 {
-    return (double *)sq_param_ptr(p, e->spec) + e->comp;
+    return (double *)gene_ptr(e, p) + e->comp;
 }
 
 void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x)
 {
     for (int i = 0; i < g->n; i++) {
         const SqGene *e = &g->genes[i];
-        const void *ptr = sq_param_cptr(p, e->spec);
+        const void *ptr = gene_ptr(e, (SqParams *)p); /* read only */
         double v = (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL || e->spec->type == SQ_PT_ENUM)
                        ? *(const int *)ptr
                        : ((const double *)ptr)[e->comp];
@@ -154,18 +202,27 @@ void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x)
 void sq_genome_decode(const SqGenome *g, const double *x, SqParams *p)
 {
     p->Pattern_Type = g->category;
+    if (g->layer_category >= 0) {
+        if (p->Pattern_Layers.count != 1 || p->Pattern_Layers.layer[0].spec.Pattern_Type != g->layer_category) {
+            sq_pattern_layer_default(&p->Pattern_Layers.layer[0]);
+            p->Pattern_Layers.layer[0].spec.Pattern_Type = g->layer_category;
+        }
+        p->Pattern_Layers.count = 1;
+    } else {
+        p->Pattern_Layers.count = 0;
+    }
     for (int i = 0; i < g->n; i++) {
         const SqGene *e = &g->genes[i];
         double t = fmin(fmax(x[i], 0), 1);
         if (e->levels) {
             int level = (int)fmin(floor(t * e->levels), e->levels - 1);
-            *(int *)sq_param_ptr(p, e->spec) = (int)e->lo + level;
+            *(int *)gene_ptr(e, p) = (int)e->lo + level;
             continue;
         }
         double v = e->kind == SQ_GENE_LOG ? e->lo * pow(e->hi / e->lo, t) : e->lo + t * (e->hi - e->lo);
         v = fmin(fmax(v, e->spec->min), e->spec->max);
         if (e->spec->type == SQ_PT_INT)
-            *(int *)sq_param_ptr(p, e->spec) = (int)lround(v);
+            *(int *)gene_ptr(e, p) = (int)lround(v);
         else
             *field(e, p) = v;
     }

@@ -176,11 +176,19 @@ static void categories_fitted(void **state)
     SqFitResult r;
     SqError err;
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
-    for (int c = 0; c < SQ_PATTERN_COUNT; c++) {
+    for (int c = 0; c < SQ_FIT_KINDS; c++) { /* the layered kind too */
         assert_true(isfinite(r.category_score[c]));
         assert_true(r.niche[c]);
     }
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    sq_fit_result_free(&r);
+    o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    assert_int_equal(r.best.params.Pattern_Layers.count, 1);
+    assert_true(sq_genome_layerable(r.best.params.Pattern_Type, r.best.params.Pattern_Layers.layer[0].spec.Pattern_Type));
+    assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    for (int i = 0; i < r.nfront; i++)
+        assert_int_equal(sq_fit_kind_of(&r.front[i].params), SQ_FIT_LAYERED);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_PATTERN_NONE | 1u << SQ_PATTERN_SPOTS;
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
@@ -188,7 +196,7 @@ static void categories_fitted(void **state)
         assert_int_equal(isfinite(r.category_score[c]) != 0, c == SQ_PATTERN_NONE || c == SQ_PATTERN_SPOTS);
     assert_true(r.best.params.Pattern_Type == SQ_PATTERN_NONE || r.best.params.Pattern_Type == SQ_PATTERN_SPOTS);
     sq_fit_result_free(&r);
-    o.categories = 1u << SQ_PATTERN_COUNT; /* no such category */
+    o.categories = 1u << SQ_FIT_KINDS; /* no such kind */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_ERR_INVALID);
     assert_contains(err.what, "categories");
 }

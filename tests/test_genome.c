@@ -1,5 +1,6 @@
 /* The genome (parameter table <-> unit cube) and the GP operators on automata. */
 #include <math.h>
+#include <string.h>
 
 #include "sq_test.h"
 #include "squama/search.h"
@@ -142,6 +143,73 @@ static void decode_encode_round_trip(void **state)
     }
 }
 
+/* The layered kind: the base's genes, then the layer's own; decoding makes one layer of the
+ * type; a round trip gives the same values, in the layer and not in the base. */
+static void layered_genome(void **state)
+{
+    (void)state;
+    SqGenome g, base;
+    SqError err;
+    assert_int_equal(sq_genome_init_layered(&g, SQ_PATTERN_SPOTS, SQ_PATTERN_LONGITUDINAL, &err), SQ_OK);
+    assert_int_equal(sq_genome_init(&base, SQ_PATTERN_SPOTS, &err), SQ_OK);
+    assert_int_equal(g.layer_category, SQ_PATTERN_LONGITUDINAL);
+    assert_true(g.n > base.n && g.n <= SQ_GENOME_MAX);
+    int layer_genes = 0, blend = 0;
+    for (int i = 0; i < g.n; i++) {
+        assert_int_equal(g.genes[i].layer, i < base.n ? -1 : 0);
+        layer_genes += g.genes[i].layer == 0;
+        blend += strcmp(g.genes[i].spec->name, "Layer_Blend") == 0;
+        for (int j = 0; j < i; j++)
+            assert_false(g.genes[i].spec == g.genes[j].spec && g.genes[i].comp == g.genes[j].comp &&
+                         g.genes[i].layer == g.genes[j].layer);
+    }
+    assert_true(layer_genes >= 4);
+    assert_int_equal(blend, 1);
+    uint64_t s = 7;
+    for (int trial = 0; trial < 100; trial++) {
+        double x[SQ_GENOME_MAX], y[SQ_GENOME_MAX];
+        for (int i = 0; i < g.n; i++)
+            x[i] = uniform(&s);
+        SqParams p, q;
+        sq_params_default(&p);
+        sq_genome_decode(&g, x, &p);
+        assert_int_equal(p.Pattern_Type, SQ_PATTERN_SPOTS);
+        assert_int_equal(p.Pattern_Layers.count, 1);
+        assert_int_equal(p.Pattern_Layers.layer[0].spec.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
+        assert_int_equal(sq_fit_kind_of(&p), SQ_FIT_LAYERED);
+        if (sq_params_validate(&p, &err) != SQ_OK)
+            fail_msg("decoded parameters invalid: %s (%s)", err.what, err.where);
+        sq_params_default(&q);
+        assert_int_equal(sq_genome_of(&base, &p, &err), SQ_OK); /* the genome of the preset */
+        assert_int_equal(base.n, g.n);
+        sq_genome_encode(&g, &p, y);
+        sq_genome_decode(&g, y, &q);
+        assert_float_equal(q.Pattern_Layers.layer[0].spec.Longitudinal_StripesWidth,
+                           p.Pattern_Layers.layer[0].spec.Longitudinal_StripesWidth, 1e-9);
+        assert_float_equal(q.Pattern_Layers.layer[0].Layer_Opacity, p.Pattern_Layers.layer[0].Layer_Opacity, 1e-9);
+        assert_int_equal(q.Pattern_Layers.layer[0].Layer_Blend, p.Pattern_Layers.layer[0].Layer_Blend);
+        assert_float_equal(q.Spots_Scale, p.Spots_Scale, 1e-9);
+        /* the layer's stripes are not the base's */
+        assert_float_equal(q.Longitudinal_StripesWidth, 0.3, 1e-12);
+    }
+    /* decoding a base genome drops the layer */
+    SqParams p;
+    sq_params_default(&p);
+    double x[SQ_GENOME_MAX] = {0};
+    sq_genome_decode(&g, x, &p);
+    assert_int_equal(sq_genome_init(&base, SQ_PATTERN_SPOTS, &err), SQ_OK);
+    sq_genome_decode(&base, x, &p);
+    assert_int_equal(p.Pattern_Layers.count, 0);
+    /* pairs the fit does not search */
+    assert_int_equal(sq_genome_init_layered(&g, SQ_PATTERN_SPOTS, SQ_PATTERN_SPOTS, &err), SQ_ERR_UNSUPPORTED);
+    assert_int_equal(sq_genome_init_layered(&g, SQ_PATTERN_NONE, SQ_PATTERN_SPOTS, &err), SQ_ERR_UNSUPPORTED);
+    assert_int_equal(sq_genome_init_layered(&g, SQ_PATTERN_SPOTS, SQ_PATTERN_COMPLEX, &err), SQ_ERR_UNSUPPORTED);
+    for (int b = 0; b < SQ_PATTERN_COUNT; b++) /* every pair allowed has a genome that fits */
+        for (int l = 0; l < SQ_PATTERN_COUNT; l++)
+            if (sq_genome_layerable(b, l))
+                assert_int_equal(sq_genome_init_layered(&g, b, l, &err), SQ_OK);
+}
+
 static void levels_for_cmaes(void **state)
 {
     (void)state;
@@ -228,6 +296,7 @@ int main(void)
         cmocka_unit_test(complex_genes),
         cmocka_unit_test(kinds_follow_the_table),
         cmocka_unit_test(decode_encode_round_trip),
+        cmocka_unit_test(layered_genome),
         cmocka_unit_test(levels_for_cmaes),
         cmocka_unit_test(gp_operators_keep_automata_valid),
         cmocka_unit_test(tournament_prefers_low_ranks),

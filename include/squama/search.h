@@ -111,13 +111,15 @@ typedef enum SqGeneKind { SQ_GENE_REAL, SQ_GENE_LOG, SQ_GENE_INT, SQ_GENE_BOOL }
 typedef struct SqGene {
     const SqParamSpec *spec;
     int comp;        /* component of a vec2 or colour */
+    int layer;       /* -1: the base's parameter; l >= 0: pattern layer l's own copy */
     SqGeneKind kind;
     int levels;      /* discrete levels (0: continuous) */
     double lo, hi;   /* the range that [0, 1] maps onto */
 } SqGene;
 
 typedef struct SqGenome {
-    int category;    /* SqPatternType */
+    int category;    /* SqPatternType of the base */
+    int layer_category; /* the one pattern layer's type, or -1: no layer */
     int n;
     SqGene genes[SQ_GENOME_MAX];
     int has_ca;      /* the category draws a cellular automaton */
@@ -126,11 +128,22 @@ typedef struct SqGenome {
 /* The genes of a category. SQ_ERR_UNSUPPORTED for a category without genes. */
 SqStatus sq_genome_init(SqGenome *g, int category, SqError *err);
 
+/* The layered kind: the genes of `category` and, after them, a pattern layer of type
+ * `layer` (its own pattern genes, Layer_Blend and Layer_Opacity). The base is a stripe,
+ * band, spot or automaton pattern; the layer stripes, bands or spots of another type
+ * (sq_genome_layerable). */
+SqStatus sq_genome_init_layered(SqGenome *g, int category, int layer, SqError *err);
+int sq_genome_layerable(int base, int layer);
+
+/* The genome that searches a preset as it is (its type, and its one layer if it has one). */
+SqStatus sq_genome_of(SqGenome *g, const SqParams *p, SqError *err);
+
 /* Gene values of p in [0, 1] (clamped to the range). */
 void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x);
 
 /* Writes the genes x (values outside [0, 1] are clamped) into p; every other field of p is
- * kept. Sets p->Pattern_Type to the genome's category. */
+ * kept. Sets p->Pattern_Type to the genome's category and the layer stack to the genome's:
+ * none, or one layer of its type (reset to the defaults when p had another). */
 void sq_genome_decode(const SqGenome *g, const double *x, SqParams *p);
 
 /* Per gene, the discrete levels (0 for continuous), as CMA-ES wants them. */
@@ -158,22 +171,36 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
 
 /* ---- the fit driver (fit.c) ----
  * From a photo's target features to the best preset, in three stages:
- *  1. screen: every category the generator can make, with random genes and the photo's
+ *  1. screen: every kind of skin (the categories the generator can make, and layered
+ *     patterns; SQ_FIT_KINDS below), with random genes and the photo's
  *     palette as colours, each candidate scored at every view scale of the grid (the view
  *     scale is estimated on its own here, before anything else moves);
- *  2. evolve: every category as a niche, CMA-ES moving each niche's continuous and
+ *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
  *     candidate), GP operators moving its automata; every generation ranked by NSGA-II on
  *     the five objectives, one seed per generation (common random numbers); after every
  *     round of generations the worst niche is dropped until `niches` remain;
  *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
  *     over several seeds at the fine size; the champion picked from the re-scored front
- *     (see SqFitResult.norm; the simplest category within 5% of the best is preferred: plain,
- *     stripes or bands, spots, automata); the champion polished by nlopt's SBPLX and kept polished only
- *     when the re-scored polish is better.
+ *     (see SqFitResult.norm; the simplest kind within 5% of the best is preferred: plain,
+ *     stripes or bands, spots, automata, layered, reaction-diffusion); the champion polished by
+ *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
+ *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility).
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
+
+/* The kinds of skin the fit tells apart, each a niche: the six pattern categories, and
+ * "layered", a stripe, band, spot or automaton pattern under one layer of stripes, bands
+ * or spots of another type (the pair is drawn at random while screening; the niche
+ * searches the pair of its best screened candidate). */
+enum { SQ_FIT_LAYERED = SQ_PATTERN_COUNT, SQ_FIT_KINDS };
+
+/* A preset's kind: SQ_FIT_LAYERED when it has pattern layers, else its pattern type. */
+int sq_fit_kind_of(const SqParams *p);
+
+/* "none" ... "complex", "layered". */
+const char *sq_fit_kind_name(int kind);
 
 typedef enum SqFitMethod {
     SQ_FIT_SQUAMA = 0, /* the three stages above */
@@ -197,7 +224,7 @@ typedef struct SqFitProgress {
     double elapsed, budget;  /* seconds (budget 0: none) */
     double best_score;       /* the lowest score so far (noisy before re-scoring) */
     double best[SQ_OBJ_COUNT]; /* the lowest value of each objective so far */
-    int category;            /* the niche of the last generation */
+    int category;            /* the kind (niche) of the last generation */
     const SqFitCandidate *front; /* the archive's Pareto front so far */
     int nfront;
 } SqFitProgress;
@@ -210,8 +237,8 @@ typedef struct SqFitOptions {
     int coarse_size;         /* render size while screening and evolving (128) */
     int fine_size;           /* render size when re-scoring and polishing (256) */
     int screen;              /* random candidates per category (48) */
-    unsigned categories;     /* bit c set: pattern category c is fitted; 0: every category */
-    int niches;              /* categories left evolving after the racing (2) */
+    unsigned categories;     /* bit k set: kind k is fitted (SQ_FIT_KINDS bits); 0: every kind */
+    int niches;              /* kinds left evolving after the racing (2) */
     int reseeds;             /* seeds the finalists are re-scored over (4) */
     int front_max;           /* largest front kept (24) */
     double band_centre;      /* texture u facing the camera (0.5) */
@@ -236,9 +263,9 @@ typedef struct SqFitResult {
     SqFitCandidate *front;   /* the re-scored Pareto front, by score (best first) */
     int nfront;
     double norm[SQ_OBJ_COUNT]; /* each objective's median over the screening: the score's scale */
-    double category_score[SQ_PATTERN_COUNT]; /* best score per category; INFINITY: not tried */
-    int niche[SQ_PATTERN_COUNT]; /* 1: evolved in stage 2 */
-    int survivor[SQ_PATTERN_COUNT]; /* 1: still evolving when stage 2 ended */
+    double category_score[SQ_FIT_KINDS]; /* best score per kind; INFINITY: not tried */
+    int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
+    int survivor[SQ_FIT_KINDS]; /* 1: still evolving when stage 2 ended */
     SqFitHistory *history;   /* one row per generation */
     int nhistory;
     long evals;
