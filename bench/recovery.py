@@ -127,6 +127,9 @@ def main():
     ap.add_argument("--presets", required=True)
     ap.add_argument("--n", type=int, default=38,
                     help="ground truths (default 38: 30 of the simple categories, 6 complex, 2 layered)")
+    ap.add_argument("--first", type=int, default=0,
+                    help="start at this truth (default 0): two runs on disjoint rows can share --out, "
+                         "and a last run over all of them reuses their fits for the whole table")
     ap.add_argument("--budget", default="60s", help="squama's time budget per photo (default 60s)")
     ap.add_argument("--evals", type=int, default=0,
                     help="an evaluation budget per photo instead of --budget: deterministic, the "
@@ -141,7 +144,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     rows = []
     t0 = time.time()
-    for i in range(args.n):
+    for i in range(args.first, args.n):
         cat, k = category_of(i)
         bases = BASES[cat]
         base = os.path.join(args.presets, bases[k % len(bases)])

@@ -435,7 +435,46 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     }
     for (int i = 0; i < f->o.nseeds; i++)
         c[k++] = f->o.seeds[i];
-    evaluate_all(f, c, n, f->o.coarse_size, 1);
+    /* Scored round by round: the starting candidates and 4 of every kind, then 2 more of
+     * every kind at a time. With a time budget screening stops after the round that reaches
+     * 30% of it, every kind having had as many; the candidates left are dropped. */
+    SqFitCandidate *batch = malloc(sizeof *batch * (size_t)n);
+    int *in_round = malloc(sizeof(int) * (size_t)n);
+    if (!batch || !in_round) {
+        free(batch);
+        free(in_round);
+        free(c);
+        free(col);
+        return sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
+    }
+    int rounds_done = 0, scored = 0;
+    while (rounds_done < per) {
+        int upto = rounds_done == 0 ? (per < 4 ? per : 4) : rounds_done + 2, m = 0;
+        upto = upto < per ? upto : per;
+        for (int i = 0; i < n; i++) {
+            int r = i < per * ncat ? i % per : -1; /* a starting candidate: the first round */
+            if ((r < 0 && rounds_done == 0) || (r >= rounds_done && r < upto)) {
+                in_round[m] = i;
+                batch[m++] = c[i];
+            }
+        }
+        evaluate_all(f, batch, m, f->o.coarse_size, 1);
+        for (int j = 0; j < m; j++)
+            c[in_round[j]] = batch[j];
+        scored += m;
+        rounds_done = upto;
+        if (f->o.budget > 0 && elapsed(f) >= 0.3 * f->o.budget)
+            break;
+    }
+    free(batch);
+    free(in_round);
+    if (scored < n) { /* the rounds not scored leave, in order */
+        int kept = 0;
+        for (int i = 0; i < n; i++)
+            if (i >= per * ncat || i % per < rounds_done)
+                c[kept++] = c[i];
+        n = kept;
+    }
     /* the score's scale: each objective's median over the screened candidates */
     for (int o = 0; o < SQ_OBJ_COUNT; o++) {
         int m = 0;
@@ -1254,6 +1293,14 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         long room = nfin_max - nfin;
         if (o->max_evals > 0) {
             long cap = ((long)(0.9 * (double)o->max_evals) - f.evals) / o->reseeds - nfin;
+            room = cap < room ? (cap > 0 ? cap : 0) : room;
+        }
+        /* a time budget keeps it within 95% of it, at the pace so far (a fine render costs
+         * up to (fine / coarse)^2 coarse ones); the niches' bests are re-scored anyway */
+        if (o->budget > 0 && f.evals > 0) {
+            const double ratio = (double)o->fine_size / o->coarse_size;
+            const double per = elapsed(&f) / (double)f.evals * ratio * ratio * o->reseeds;
+            long cap = (long)((0.95 * o->budget - elapsed(&f)) / per) - nfin;
             room = cap < room ? (cap > 0 ? cap : 0) : room;
         }
         qsort(f.archive, (size_t)f.narchive, sizeof *f.archive, cmp_score);
