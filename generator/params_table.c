@@ -246,6 +246,10 @@ static const SqParamSpec table[] = {
      .def = {0}, .min = 0, .max = 64, .smin = 0, .smax = 24, .group = "reaction-diffusion",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Fig. 2",
      .help = "rosette cascade: small spots grow only this far from the large (1/256 width); 0 anywhere"},
+    {.name = "RD_CascadeGap", .type = SQ_PT_FLOAT, .offset = F(RD_CascadeGap), .def = {0},
+     .min = 0, .max = 32, .smin = 0, .smax = 8, .group = "reaction-diffusion",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Fig. 3",
+     .help = "cascade: the second system keeps this far from the first features (1/256 width)"},
 
     /* ---- pattern post-process ---- */
     {.name = "Pattern_RotatePattern90Degrees", .type = SQ_PT_BOOL,

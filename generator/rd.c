@@ -504,9 +504,13 @@ static int net_value(const SqParams *p, int w, int h, SqRdResult *out)
     return rc;
 }
 
-/* The rosette cascade's ring: cells of `first`'s complement within RD_RosetteWidth of a
- * first feature stay live, the rest are frozen. */
-static int rosette_ring(const SqParams *p, int w, int h, const SqRdResult *out, float *live)
+/* Where a cascade's second system runs when its reach is bounded: off the first features,
+ * farther than RD_CascadeGap from them and, for rosettes with RD_RosetteWidth, within that
+ * of them (a ring each); 1 live, 0 frozen. `keep` is what of its value is kept: live, and
+ * beyond a gap fading in over a cell with the distance, so the value's edge there follows
+ * the first features' outline rather than the cells'. */
+static int cascade_live(const SqParams *p, int w, int h, const SqRdResult *out, float *live,
+                        float *keep)
 {
     const int nu = out->nu, nv = out->nv;
     const size_t n = (size_t)nu * nv;
@@ -517,9 +521,13 @@ static int rosette_ring(const SqParams *p, int w, int h, const SqRdResult *out, 
         for (size_t i = 0; i < n; i++)
             mask[i] = out->first[i] > 0.5f;
         if (!sq__rd_feature_distances(mask, nu, nv, grid_aspect(w, h, nu, nv), d1, d2)) {
-            const float reach = (float)(p->RD_RosetteWidth / 256.0 * nu);
-            for (size_t i = 0; i < n; i++)
-                live[i] = !mask[i] && d1[i] <= reach ? 1.0f : 0.0f;
+            const int ring = p->RD_Cascade == SQ_RD_CASCADE_ROSETTES && p->RD_RosetteWidth > 0;
+            const float reach = ring ? (float)(p->RD_RosetteWidth / 256.0 * nu) : FLT_MAX;
+            const float gap = (float)(p->RD_CascadeGap / 256.0 * nu);
+            for (size_t i = 0; i < n; i++) {
+                live[i] = !mask[i] && d1[i] > gap && d1[i] <= reach ? 1.0f : 0.0f;
+                keep[i] = gap > 0 ? live[i] * sq__clamp01(d1[i] - gap) : live[i];
+            }
             rc = 0;
         }
     }
@@ -570,7 +578,8 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
      * its Laplacians. */
     const int second = p->RD_Cascade == SQ_RD_CASCADE_STRIPES ? SQ_RD_STRIPES : SQ_RD_SPOTS;
     const int keep = p->RD_Cascade == SQ_RD_CASCADE_SPOTS && p->RD_System == SQ_RD_SPOTS;
-    const int ring = p->RD_Cascade == SQ_RD_CASCADE_ROSETTES && p->RD_RosetteWidth > 0;
+    const int bounded = (p->RD_Cascade == SQ_RD_CASCADE_ROSETTES && p->RD_RosetteWidth > 0) ||
+                        p->RD_CascadeGap > 0;
     int bad = !(out->value = sq__falloc(n));
     if (!bad && keep) { /* cheetah: the same chemicals go on at the second speed */
         two = one;
@@ -589,11 +598,13 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
     }
     if (!bad)
         bad = !(two.live = sq__falloc(n));
-    if (!bad && ring)
-        bad = rosette_ring(p, w, h, out, two.live) != 0;
+    float *keep_value = NULL;
+    if (!bad && bounded)
+        bad = !(keep_value = sq__falloc(n)) || cascade_live(p, w, h, out, two.live, keep_value) != 0;
     if (bad) {
         sq__rd_free(&one);
         sq__rd_free(&two);
+        sq__ffree(keep_value);
         sq__rd_result_free(out);
         return sq_error_set(err, SQ_ERR_NOMEM, "RD_Cascade", "out of memory for the cascade");
     }
@@ -603,8 +614,8 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
     else if (second == SQ_RD_STRIPES)
         stripe_white(rest); /* giraffe: the white of the stripe system */
     for (size_t i = 0; i < n; i++) {
-        /* a ring: the cells beyond it are frozen at rest as well */
-        const int frozen = ring ? two.live[i] == 0.0f : out->first[i] > 0.5f;
+        /* bounded: the cells out of reach are frozen (at rest) as well */
+        const int frozen = bounded ? two.live[i] == 0.0f : out->first[i] > 0.5f;
         two.live[i] = frozen ? 0.0f : 1.0f;
         if (frozen && !keep)
             for (int c = 0; c < two.nchem; c++)
@@ -618,7 +629,8 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
      * are the first system's (coloured by RD_Color3) */
     if (!keep)
         for (size_t i = 0; i < n; i++)
-            out->value[i] *= two.live[i];
+            out->value[i] *= keep_value ? keep_value[i] : two.live[i];
+    sq__ffree(keep_value);
     sq__rd_free(&one);
     sq__rd_free(&two);
     return SQ_OK;

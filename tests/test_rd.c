@@ -530,6 +530,29 @@ static void stripes_between_stripes_leave_gaps(void **state)
     if (frac < 0.15 || frac > 0.75)
         fail_msg("the second stripes fill %.0f%% of the gaps between the first", 100 * frac);
     sq__rd_result_free(&r);
+    /* with a gap, none of them comes nearer the first than RD_CascadeGap */
+    p.RD_CascadeGap = 3;
+    assert_int_equal(sq__rd_run(&p, 256, 256, &r, &err), SQ_OK);
+    unsigned char *first = malloc((size_t)n);
+    float *d1 = malloc(sizeof(float) * (size_t)n), *d2 = malloc(sizeof(float) * (size_t)n);
+    for (int i = 0; i < n; i++)
+        first[i] = r.first[i] > 0.5f;
+    assert_int_equal(sq__rd_feature_distances(first, r.nu, r.nv, 1.0f, d1, d2), 0);
+    const float gap = (float)(3.0 / 256 * r.nu);
+    long near = 0;
+    on = 0;
+    for (int i = 0; i < n; i++) {
+        on += r.value[i] > 0.5f;
+        near += r.value[i] > 0.0f && d1[i] <= gap;
+    }
+    print_message("with a gap of %.2f cells: %ld cells striped, %ld nearer\n", (double)gap, on, near);
+    assert_true(on > n / 50);
+    if (near)
+        fail_msg("%ld second-system cells within the gap", near);
+    free(first);
+    free(d1);
+    free(d2);
+    sq__rd_result_free(&r);
 }
 
 static void bad_parameters_are_refused_by_name(void **state)

@@ -117,6 +117,7 @@ typedef enum SqScalesLayout {
     double RD_Softness;                                                                    \
     double RD_NetWidth;                                                                    \
     double RD_RosetteWidth;                                                                \
+    double RD_CascadeGap;                                                                  \
                                                                                            \
     /* pattern post-process (§4.2.4, §4.2.7): per pattern, so a layer has its own */      \
     int Pattern_RotatePattern90Degrees;                                                    \
