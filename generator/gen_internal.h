@@ -279,7 +279,8 @@ void sq__rd_value(const SqRd *rd, float *value);
 /* The whole complex pattern on its grid: the first system, the cascade, the value. */
 typedef struct SqRdResult {
     int nu, nv;
-    float *value; /* final pattern value, nu * nv */
+    int fine;     /* value's grid is fine times finer than the simulation's (net: up to 4, else 1) */
+    float *value; /* final pattern value, (fine nu) * (fine nv) */
     float *first; /* the first system's value in a cascade (NULL without one) */
     long steps[2];
     int converged[2];
@@ -290,6 +291,17 @@ typedef struct SqRdResult {
 void sq__rd_grid(const SqParams *p, int w, int h, int *nu, int *nv);
 
 SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *err);
+
+/* For every cell of an nu x nv periodic grid, the distance d1 to the nearest cell of a
+ * feature (a 4-connected component of mask, wrapping; 0 inside one) and d2 to the nearest
+ * cell of another feature, FLT_MAX where there is none; a step along v counts `aspect`
+ * steps along u. 0, or -1 when out of memory. (rd_net.c) */
+int sq__rd_feature_distances(const unsigned char *mask, int nu, int nv, float aspect,
+                             float *d1, float *d2);
+
+/* The features of mask: lab[i] the 4-connected component (wrapping) of cell i, numbered
+ * from 0 in the order of their first cells, -1 outside. Their count, or -1 (memory). */
+int sq__rd_label_features(const unsigned char *mask, int nu, int nv, int *lab);
 void sq__rd_result_free(SqRdResult *r);
 
 /* Periodic Catmull-Rom upsampling of an sw x sh grid to dw x dh (cell centres aligned);

@@ -37,7 +37,8 @@ const char *const sq_pattern_type_names[] = {
 };
 
 const char *const sq_rd_system_names[] = {"spots", "stripes", NULL};
-const char *const sq_rd_cascade_names[] = {"none", "spots", "rosettes", "stripes", NULL};
+const char *const sq_rd_cascade_names[] = {"none", "spots", "rosettes", "stripes",
+                                                "net", NULL};
 const char *const sq_scales_layout_names[] = {"grid", "voronoi", NULL};
 const char *const sq_layer_blend_names[] = {"normal", "multiply", "screen", "overlay", NULL};
 
@@ -97,6 +98,14 @@ static const SqParamSpec table[] = {
      .origin = SQ_ORIGIN_THESIS, .ref = "§4.2.2 (D.11 \"Longitudinal_Separation\")",
      .help = "squeezes the stripes towards the dorsal midline: 1 no change, 2 half the "
              "width, 4 a quarter"},
+    {.name = "Longitudinal_ZigzagAmplitude", .type = SQ_PT_FLOAT,
+     .offset = F(Longitudinal_ZigzagAmplitude), .def = {0}, .min = 0, .max = 0.25, .smin = 0,
+     .smax = 0.1, .group = "longitudinal", .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 6",
+     .help = "stripes zig-zag across by this fraction of the width either way (adders); 0 straight"},
+    {.name = "Longitudinal_ZigzagCount", .type = SQ_PT_INT,
+     .offset = F(Longitudinal_ZigzagCount), .def = {8}, .min = 1, .max = 64, .smin = 3,
+     .smax = 24, .group = "longitudinal", .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 6",
+     .help = "zig-zag periods along the texture's length (whole, so it tiles)"},
 
     /* ---- spots ---- */
     {.name = "Spots_Scale", .type = SQ_PT_FLOAT, .offset = F(Spots_Scale), .def = {0.5},
@@ -176,8 +185,8 @@ static const SqParamSpec table[] = {
      .choices = sq_rd_cascade_names, .def = {SQ_RD_CASCADE_NONE}, .min = 0,
      .max = SQ_RD_CASCADE_COUNT - 1, .smin = 0, .smax = SQ_RD_CASCADE_COUNT - 1,
      .group = "reaction-diffusion", .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Cascade",
-     .help = "second system run between the frozen first features: none, spots, rosettes, "
-             "stripes"},
+     .help = "second stage: spots, rosettes or stripes among the frozen first features, or a net "
+             "between them"},
     {.name = "RD_Cells", .type = SQ_PT_INT, .offset = F(RD_Cells), .def = {96}, .min = 16,
      .max = 1024, .smin = 48, .smax = 256, .flags = SQ_PF_LOG, .group = "reaction-diffusion",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991",
@@ -229,6 +238,18 @@ static const SqParamSpec table[] = {
      .min = 0, .max = 1, .smin = 0, .smax = 0.4, .group = "reaction-diffusion",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "",
      .help = "width of the colour ramps around the thresholds: 0 hard edges"},
+    {.name = "RD_NetWidth", .type = SQ_PT_FLOAT, .offset = F(RD_NetWidth), .def = {4},
+     .min = 0.25, .max = 64, .smin = 1, .smax = 16, .flags = SQ_PF_LOG,
+     .group = "reaction-diffusion", .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Fig. 3",
+     .help = "net cascade: line width at pattern value 0.5 (1/256 of the texture width per unit)"},
+    {.name = "RD_RosetteWidth", .type = SQ_PT_FLOAT, .offset = F(RD_RosetteWidth),
+     .def = {0}, .min = 0, .max = 64, .smin = 0, .smax = 24, .group = "reaction-diffusion",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Fig. 2",
+     .help = "rosette cascade: small spots grow only this far from the large (1/256 width); 0 anywhere"},
+    {.name = "RD_CascadeGap", .type = SQ_PT_FLOAT, .offset = F(RD_CascadeGap), .def = {0},
+     .min = 0, .max = 32, .smin = 0, .smax = 8, .group = "reaction-diffusion",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "Turk 1991, Fig. 3",
+     .help = "cascade: the second system keeps this far from the first features (1/256 width)"},
 
     /* ---- pattern post-process ---- */
     {.name = "Pattern_RotatePattern90Degrees", .type = SQ_PT_BOOL,

@@ -30,7 +30,7 @@ SqStatus sq__pattern_rd(const SqParams *p, SqPattern *pat, SqError *err)
     if (st != SQ_OK)
         return st;
     float *value = sq__falloc_raw(n);
-    if (!value || sq__rd_upsample(r.value, r.nu, r.nv, value, w, h)) {
+    if (!value || sq__rd_upsample(r.value, r.nu * r.fine, r.nv * r.fine, value, w, h)) {
         st = sq_error_set(err, SQ_ERR_NOMEM, "render", "out of memory for the complex pattern");
         goto done;
     }

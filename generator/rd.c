@@ -12,6 +12,7 @@
  * a grid with k times fewer rows and stretched back when upsampled, which is diffusion
  * k^2 times faster along v than across (Turk's Figure 8), at a fraction of the cost and
  * with the isotropic kernel's stability. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -268,6 +269,15 @@ static void stripe_white(float *v)
     v[R] = (lo * lo * hi + lo * hi * hi) / STRIPE_BETA;
 }
 
+/* The homogeneous balance of the stripe system: g1 = g2 = s1 = s2 = g, r = 2 c g^3 / beta,
+ * with alpha g = beta / 2 + rho0. */
+static void stripe_balance(float *v)
+{
+    const float g = (0.5f * STRIPE_BETA + STRIPE_RHO0) / STRIPE_ALPHA;
+    v[G1] = v[G2] = v[S1] = v[S2] = g;
+    v[R] = 2.0f * g * g * g / STRIPE_BETA;
+}
+
 int sq__rd_init_stripes(SqRd *rd, int nu, int nv, double dx, double flank, uint64_t seed,
                         uint64_t stream)
 {
@@ -450,6 +460,83 @@ static void solve(SqRd *rd)
         sq__rd_solve(rd, RD_TOL_STRIPES, RD_EVERY, RD_CAP_STRIPES);
 }
 
+/* Grid steps along v per step along u in texture space: the feature distances of the net
+ * and rosette cascades are measured on the texture, not the (anisotropic) grid. */
+static float grid_aspect(int w, int h, int nu, int nv)
+{
+    return (float)(((double)h / nv) / ((double)w / nu));
+}
+
+/* The net cascade: the first features' zones of influence, on a grid up to NET_FINE times
+ * finer than the simulation's (at most NET_MAX_CELLS cells) so lines narrower than a cell
+ * stay whole. The value is 1 where two zones meet, falling linearly with the distance from
+ * there to 0 at RD_NetWidth (0.5 at half of it: lines RD_NetWidth wide at threshold 0.5). */
+enum { NET_FINE = 4, NET_MAX_CELLS = 1 << 22 };
+
+static int net_value(const SqParams *p, int w, int h, SqRdResult *out)
+{
+    int fine = NET_FINE;
+    while (fine > 1 && (double)out->nu * out->nv * fine * fine > NET_MAX_CELLS)
+        fine--;
+    const int fu = out->nu * fine, fv = out->nv * fine;
+    const size_t fn = (size_t)fu * fv;
+    float *d1 = sq__falloc_raw(fn), *d2 = sq__falloc_raw(fn);
+    unsigned char *mask = malloc(fn);
+    int rc = -1;
+    if (d1 && d2 && mask && (out->value = sq__falloc_raw(fn)) &&
+        !sq__rd_upsample(out->first, out->nu, out->nv, d1, fu, fv)) {
+        for (size_t i = 0; i < fn; i++)
+            mask[i] = d1[i] > 0.5f;
+        if (!sq__rd_feature_distances(mask, fu, fv, grid_aspect(w, h, fu, fv), d1, d2)) {
+            const float width = (float)(p->RD_NetWidth / 256.0 * fu);
+            for (size_t i = 0; i < fn; i++) {
+                /* half the difference: the distance to where the two zones meet */
+                const float m = d2[i] == FLT_MAX ? width : 0.5f * (d2[i] - d1[i]);
+                out->value[i] = sq__clamp01(1.0f - m / width);
+            }
+            out->fine = fine;
+            rc = 0;
+        }
+    }
+    sq__ffree(d1);
+    sq__ffree(d2);
+    free(mask);
+    return rc;
+}
+
+/* Where a cascade's second system runs when its reach is bounded: off the first features,
+ * farther than RD_CascadeGap from them and, for rosettes with RD_RosetteWidth, within that
+ * of them (a ring each); 1 live, 0 frozen. `keep` is what of its value is kept: live, and
+ * beyond a gap fading in over a cell with the distance, so the value's edge there follows
+ * the first features' outline rather than the cells'. */
+static int cascade_live(const SqParams *p, int w, int h, const SqRdResult *out, float *live,
+                        float *keep)
+{
+    const int nu = out->nu, nv = out->nv;
+    const size_t n = (size_t)nu * nv;
+    float *d1 = sq__falloc_raw(n), *d2 = sq__falloc_raw(n);
+    unsigned char *mask = malloc(n);
+    int rc = -1;
+    if (d1 && d2 && mask) {
+        for (size_t i = 0; i < n; i++)
+            mask[i] = out->first[i] > 0.5f;
+        if (!sq__rd_feature_distances(mask, nu, nv, grid_aspect(w, h, nu, nv), d1, d2)) {
+            const int ring = p->RD_Cascade == SQ_RD_CASCADE_ROSETTES && p->RD_RosetteWidth > 0;
+            const float reach = ring ? (float)(p->RD_RosetteWidth / 256.0 * nu) : FLT_MAX;
+            const float gap = (float)(p->RD_CascadeGap / 256.0 * nu);
+            for (size_t i = 0; i < n; i++) {
+                live[i] = !mask[i] && d1[i] > gap && d1[i] <= reach ? 1.0f : 0.0f;
+                keep[i] = gap > 0 ? live[i] * sq__clamp01(d1[i] - gap) : live[i];
+            }
+            rc = 0;
+        }
+    }
+    sq__ffree(d1);
+    sq__ffree(d2);
+    free(mask);
+    return rc;
+}
+
 SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
@@ -458,6 +545,7 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
     const size_t n = (size_t)nu * nv;
     out->nu = nu;
     out->nv = nv;
+    out->fine = 1;
     SqRd one, two;
     memset(&two, 0, sizeof two);
     if (init_system(&one, p->RD_System, p, nu, nv, 0) || !(out->value = sq__falloc(n))) {
@@ -474,14 +562,24 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
         sq__rd_free(&one);
         return SQ_OK;
     }
+    out->first = out->value;
+    out->value = NULL;
+    if (p->RD_Cascade == SQ_RD_CASCADE_NET) {
+        sq__rd_free(&one);
+        if (net_value(p, w, h, out)) {
+            sq__rd_result_free(out);
+            return sq_error_set(err, SQ_ERR_NOMEM, "RD_Cascade", "out of memory for the net");
+        }
+        return SQ_OK;
+    }
 
     /* Cascade (Turk): the first system's features (value above 0.5, Turk's b < 4) are
      * frozen; the second system runs around them, the frozen cells still taking part in
      * its Laplacians. */
-    out->first = out->value;
-    out->value = NULL;
     const int second = p->RD_Cascade == SQ_RD_CASCADE_STRIPES ? SQ_RD_STRIPES : SQ_RD_SPOTS;
     const int keep = p->RD_Cascade == SQ_RD_CASCADE_SPOTS && p->RD_System == SQ_RD_SPOTS;
+    const int bounded = (p->RD_Cascade == SQ_RD_CASCADE_ROSETTES && p->RD_RosetteWidth > 0) ||
+                        p->RD_CascadeGap > 0;
     int bad = !(out->value = sq__falloc(n));
     if (!bad && keep) { /* cheetah: the same chemicals go on at the second speed */
         two = one;
@@ -500,17 +598,24 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
     }
     if (!bad)
         bad = !(two.live = sq__falloc(n));
+    float *keep_value = NULL;
+    if (!bad && bounded)
+        bad = !(keep_value = sq__falloc(n)) || cascade_live(p, w, h, out, two.live, keep_value) != 0;
     if (bad) {
         sq__rd_free(&one);
         sq__rd_free(&two);
+        sq__ffree(keep_value);
         sq__rd_result_free(out);
         return sq_error_set(err, SQ_ERR_NOMEM, "RD_Cascade", "out of memory for the cascade");
     }
     float rest[5] = {4.0f, 4.0f, 0, 0, 0}; /* leopard: Turing's rest, a = b = 4 */
-    if (second == SQ_RD_STRIPES)
+    if (second == SQ_RD_STRIPES && p->RD_System == SQ_RD_STRIPES)
+        stripe_balance(rest); /* lionfish: neutral, so the new stripes are not pushed */
+    else if (second == SQ_RD_STRIPES)
         stripe_white(rest); /* giraffe: the white of the stripe system */
     for (size_t i = 0; i < n; i++) {
-        const int frozen = out->first[i] > 0.5f;
+        /* bounded: the cells out of reach are frozen (at rest) as well */
+        const int frozen = bounded ? two.live[i] == 0.0f : out->first[i] > 0.5f;
         two.live[i] = frozen ? 0.0f : 1.0f;
         if (frozen && !keep)
             for (int c = 0; c < two.nchem; c++)
@@ -524,7 +629,8 @@ SqStatus sq__rd_run(const SqParams *p, int w, int h, SqRdResult *out, SqError *e
      * are the first system's (coloured by RD_Color3) */
     if (!keep)
         for (size_t i = 0; i < n; i++)
-            out->value[i] *= two.live[i];
+            out->value[i] *= keep_value ? keep_value[i] : two.live[i];
+    sq__ffree(keep_value);
     sq__rd_free(&one);
     sq__rd_free(&two);
     return SQ_OK;

@@ -640,8 +640,10 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
                          * bent to meet the row's other stretch at the seam */
                         float t = dx * (dx < 0 ? inv_l : inv_r) * BEND;
                         t = t < 1.0f ? t : 1.0f;
+                        t = t * t * (3.0f - 2.0f * t); /* no kink at either end */
                         dy -= t * sv_px;
-                        iy = iay + t * (iay_seam - iay);
+                        /* the height (not its inverse) goes straight to the seam's */
+                        iy = iay * iay_seam / (iay_seam + t * (iay - iay_seam));
                         dx = 0;
                         dy += wob[x] * belly_v;
                     }

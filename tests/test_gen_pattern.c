@@ -149,6 +149,45 @@ static void longitudinal_pinch_and_width(void **state)
                          sq__stripe_coverage(w - 1 - x, w, 4, 0.5, 0.7)) < 1e-9);
 }
 
+/* The zig-zag: every row holds the one stripe, its centre follows a triangle wave of v
+ * with the amplitude and count asked for, and the texture still tiles along v. */
+static void longitudinal_zigzag_follows_a_triangle_wave(void **state)
+{
+    (void)state;
+    enum { W = 256, H = 256 };
+    SqParams p = base(SQ_PATTERN_LONGITUDINAL);
+    p.Longitudinal_NumberOfStripes = 1;
+    p.Longitudinal_StripesWidth = 0.1;
+    p.Longitudinal_StripesColor[0] = 1;
+    p.Longitudinal_ZigzagAmplitude = 0.08;
+    p.Longitudinal_ZigzagCount = 4;
+    SqTextures t;
+    render(&p, W, &t);
+    double lo = 1, hi = 0;
+    for (int y = 0; y < H; y++) {
+        const float *row = t.basecolor.px + (size_t)3 * W * y;
+        assert_int_equal(count_runs(row, W, 3), 1);
+        double m = 0, s = 0;
+        for (int x = 0; x < W; x++) {
+            m += row[3 * x] * (x + 0.5);
+            s += row[3 * x];
+        }
+        const double c = m / s / W, f = fmod((y + 0.5) / H * 4, 1.0);
+        const double want = 0.5 + 0.08 * (f < 0.5 ? 4 * f - 1 : 3 - 4 * f);
+        if (fabs(c - want) > 0.01)
+            fail_msg("row %d: stripe centre %.4f, the triangle wave says %.4f", y, c, want);
+        lo = c < lo ? c : lo;
+        hi = c > hi ? c : hi;
+    }
+    assert_true(hi - lo > 0.15); /* twice the amplitude */
+    /* the last row meets the first */
+    double d = 0;
+    for (int x = 0; x < W; x++)
+        d += fabs(t.basecolor.px[3 * x] - t.basecolor.px[(size_t)3 * W * (H - 1) + 3 * x]);
+    assert_true(d / W < 0.05);
+    sq_gen_textures_free(&t);
+}
+
 /* Connected components of coverage > 0.5, wrapping at the edges (4-neighbours). */
 static int count_blobs(const float *cov, int w, int h)
 {
@@ -353,6 +392,7 @@ int main(void)
         cmocka_unit_test(transversal_band_wraps),
         cmocka_unit_test(longitudinal_n_stripes_n_runs),
         cmocka_unit_test(longitudinal_pinch_and_width),
+        cmocka_unit_test(longitudinal_zigzag_follows_a_triangle_wave),
         cmocka_unit_test(spot_count_matches_tiling),
         cmocka_unit_test(spot_shape_follows_interstice),
         cmocka_unit_test(ca_rows_follow_the_rules),

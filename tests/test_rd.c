@@ -1,5 +1,6 @@
 /* Reaction-diffusion (generator/rd.c, pattern_rd.c): stability, equilibrium, feature size
  * against Turk's s, seamlessness, determinism over thread counts, cascades, refusals. */
+#include <float.h>
 #include <math.h>
 
 #ifdef _OPENMP
@@ -337,6 +338,223 @@ static void cascade_makes_two_feature_sizes(void **state)
     sq__rd_result_free(&r);
 }
 
+/* Feature distances: two one-cell features on a periodic grid, the second reached across
+ * the wrap; a feature cell is 0 from its own feature; anisotropy scales the v steps. */
+static void feature_distances_are_nearest_and_other(void **state)
+{
+    (void)state;
+    enum { NU = 20, NV = 10 };
+    unsigned char mask[NU * NV] = {0};
+    mask[5 * NU + 2] = 1;  /* feature A at (2, 5) */
+    mask[5 * NU + 15] = 1; /* feature B at (15, 5): 7 cells from A across the wrap */
+    float d1[NU * NV], d2[NU * NV];
+    assert_int_equal(sq__rd_feature_distances(mask, NU, NV, 1.0f, d1, d2), 0);
+    assert_true(d1[5 * NU + 2] == 0.0f);
+    assert_true(fabsf(d2[5 * NU + 2] - 7.0f) < 1e-5f);   /* A to B through the wrap */
+    assert_true(fabsf(d1[5 * NU + 19] - 3.0f) < 1e-5f);  /* (19, 5): A is 3 away across */
+    assert_true(fabsf(d2[5 * NU + 19] - 4.0f) < 1e-5f);  /* and B 4 */
+    assert_true(fabsf(d1[0 * NU + 2] - 5.0f) < 1e-5f);   /* (2, 0): 5 rows from A */
+    assert_true(fabsf(d1[8 * NU + 8] - sqrtf(9 + 36)) < 1e-4f);
+    assert_int_equal(sq__rd_feature_distances(mask, NU, NV, 2.0f, d1, d2), 0);
+    assert_true(fabsf(d1[0 * NU + 2] - 10.0f) < 1e-5f);  /* a v step counts 2 */
+    /* one feature: no other */
+    mask[5 * NU + 15] = 0;
+    assert_int_equal(sq__rd_feature_distances(mask, NU, NV, 1.0f, d1, d2), 0);
+    assert_true(d2[0] == FLT_MAX);
+}
+
+/* 4-connected components of mask on the periodic grid. */
+static int count_components(const unsigned char *mask, int nu, int nv)
+{
+    const double mean = mean_component(mask, nu, nv);
+    long cells = 0;
+    for (int i = 0; i < nu * nv; i++)
+        cells += mask[i];
+    return mean > 0 ? (int)lround((double)cells / mean) : 0;
+}
+
+/* The net cascade (giraffe, reticulated python): thin lines that make one connected net
+ * across the periodic domain, around many patches, off the first features. */
+static void net_cascade_is_one_thin_connected_net(void **state)
+{
+    (void)state;
+    SqParams p;
+    complex_params(&p);
+    p.RD_ReactionSpeed = 0.05;
+    p.RD_BetaVariation = 1;
+    p.RD_Cascade = SQ_RD_CASCADE_NET;
+    p.RD_NetWidth = 5;
+    SqError err;
+    SqRdResult r;
+    assert_int_equal(sq__rd_run(&p, 256, 256, &r, &err), SQ_OK);
+    assert_non_null(r.first);
+    assert_true(r.fine > 1);
+    const int fu = r.nu * r.fine, fv = r.nv * r.fine, n = fu * fv;
+    assert_finite_within(r.value, (size_t)n, 0.0f, 1.0f, "net value");
+    unsigned char *net = calloc((size_t)n, 1), *patch = calloc((size_t)n, 1);
+    int on = 0;
+    for (int i = 0; i < n; i++) {
+        net[i] = r.value[i] > 0.5f;
+        patch[i] = !net[i];
+        on += net[i];
+    }
+    const double frac = (double)on / n;
+    const int nets = count_components(net, fu, fv), patches = count_components(patch, fu, fv);
+    print_message("net: %.1f%% of the cells, %d component(s) around %d patches\n", 100 * frac,
+                  nets, patches);
+    if (frac < 0.03 || frac > 0.3)
+        fail_msg("the net covers %.1f%% of the texture: not thin lines", 100 * frac);
+    if (nets != 1)
+        fail_msg("the net is %d pieces, not one", nets);
+    if (patches < 8)
+        fail_msg("the net encloses %d patches", patches);
+    /* the lines run between the first features, never through their cores */
+    float *first = malloc(sizeof(float) * (size_t)n);
+    assert_int_equal(sq__rd_upsample(r.first, r.nu, r.nv, first, fu, fv), 0);
+    long through = 0;
+    for (int i = 0; i < n; i++)
+        through += net[i] && first[i] > 0.8f;
+    if (through > n / 1000)
+        fail_msg("%ld net cells inside the first features' cores", through);
+    free(first);
+    free(net);
+    free(patch);
+    sq__rd_result_free(&r);
+}
+
+/* The rosette cascade with a ring: the small spots lie within RD_RosetteWidth of the
+ * large ones, and most large spots are ringed by them on three sides or more. */
+static void rosette_ring_surrounds_the_large_spots(void **state)
+{
+    (void)state;
+    SqParams p;
+    complex_params(&p);
+    p.RD_Cells = 64;
+    p.RD_ReactionSpeed = 0.04;
+    p.RD_ReactionSpeed2 = 0.3;
+    p.RD_Cascade = SQ_RD_CASCADE_ROSETTES;
+    p.RD_RosetteWidth = 5;
+    SqError err;
+    SqRdResult r;
+    assert_int_equal(sq__rd_run(&p, 256, 256, &r, &err), SQ_OK);
+    const int nu = r.nu, nv = r.nv, n = nu * nv;
+    unsigned char *big = malloc((size_t)n);
+    float *d1 = malloc(sizeof(float) * (size_t)n), *d2 = malloc(sizeof(float) * (size_t)n);
+    for (int i = 0; i < n; i++)
+        big[i] = r.first[i] > 0.5f;
+    assert_int_equal(sq__rd_feature_distances(big, nu, nv, 1.0f, d1, d2), 0);
+    const float reach = (float)(5.0 / 256 * nu);
+    int small = 0;
+    for (int i = 0; i < n; i++) {
+        if (r.value[i] <= 0.5f)
+            continue;
+        small++;
+        if (big[i] || d1[i] > reach + 1e-4f)
+            fail_msg("small spot cell %d at %.2f cells from a large spot, beyond the ring (%.2f)",
+                     i, (double)d1[i], (double)reach);
+    }
+    /* quadrants around each large spot's centroid holding small-spot cells */
+    int *lab = malloc(sizeof(int) * (size_t)n);
+    const int spots = sq__rd_label_features(big, nu, nv, lab);
+    assert_true(spots >= 8);
+    int *ref = malloc(sizeof(int) * (size_t)spots), *cells = calloc((size_t)spots, sizeof(int));
+    double *cx = calloc((size_t)spots, sizeof(double)), *cy = calloc((size_t)spots, sizeof(double));
+    for (int i = n - 1; i >= 0; i--) /* each spot's first cell, its cells unwrapped around it */
+        if (lab[i] >= 0)
+            ref[lab[i]] = i;
+    for (int i = 0; i < n; i++) {
+        const int k = lab[i];
+        if (k < 0)
+            continue;
+        int dx = i % nu - ref[k] % nu, dy = i / nu - ref[k] / nu;
+        dx -= dx > nu / 2 ? nu : dx < -nu / 2 ? -nu : 0;
+        dy -= dy > nv / 2 ? nv : dy < -nv / 2 ? -nv : 0;
+        cx[k] += dx;
+        cy[k] += dy;
+        cells[k]++;
+    }
+    int ringed = 0;
+    for (int k = 0; k < spots; k++) {
+        const double x0 = ref[k] % nu + cx[k] / cells[k], y0 = ref[k] / nu + cy[k] / cells[k];
+        const int rad = (int)ceil(sqrt(cells[k]) + reach + 2), ix = (int)lround(x0), iy = (int)lround(y0);
+        int quad = 0;
+        for (int dy = -rad; dy <= rad; dy++)
+            for (int dx = -rad; dx <= rad; dx++) {
+                const int i = ((iy + dy + 4 * nv) % nv) * nu + (ix + dx + 4 * nu) % nu;
+                if (r.value[i] > 0.5f && d1[i] <= reach + 1e-4f)
+                    quad |= 1 << ((ix + dx >= x0) + 2 * (iy + dy >= y0));
+            }
+        ringed += (quad & 1) + (quad >> 1 & 1) + (quad >> 2 & 1) + (quad >> 3 & 1) >= 3;
+    }
+    print_message("rosettes: %d small-spot cells; %d of %d large spots ringed\n", small, ringed,
+                  spots);
+    if (ringed < 0.6 * spots)
+        fail_msg("only %d of %d large spots are ringed by small spots", ringed, spots);
+    free(lab);
+    free(ref);
+    free(cells);
+    free(cx);
+    free(cy);
+    free(big);
+    free(d1);
+    free(d2);
+    sq__rd_result_free(&r);
+}
+
+/* Stripes between stripes (Turk's lionfish): the second system makes stripes in the gaps
+ * between the frozen broad ones, rather than filling them. */
+static void stripes_between_stripes_leave_gaps(void **state)
+{
+    (void)state;
+    SqParams p;
+    complex_params(&p);
+    p.RD_System = SQ_RD_STRIPES;
+    p.RD_Cascade = SQ_RD_CASCADE_STRIPES;
+    p.RD_Cells = 96;
+    p.RD_StripeDiffusion = 0.06;
+    p.RD_StripeDiffusion2 = 0.015;
+    SqError err;
+    SqRdResult r;
+    assert_int_equal(sq__rd_run(&p, 256, 256, &r, &err), SQ_OK);
+    const int n = r.nu * r.nv;
+    long live = 0, on = 0;
+    for (int i = 0; i < n; i++) {
+        if (r.first[i] > 0.5f)
+            continue;
+        live++;
+        on += r.value[i] > 0.5f;
+    }
+    const double frac = (double)on / (double)live;
+    print_message("stripes between stripes: %.0f%% of the gaps striped\n", 100 * frac);
+    assert_true(live > n / 5);
+    if (frac < 0.15 || frac > 0.75)
+        fail_msg("the second stripes fill %.0f%% of the gaps between the first", 100 * frac);
+    sq__rd_result_free(&r);
+    /* with a gap, none of them comes nearer the first than RD_CascadeGap */
+    p.RD_CascadeGap = 3;
+    assert_int_equal(sq__rd_run(&p, 256, 256, &r, &err), SQ_OK);
+    unsigned char *first = malloc((size_t)n);
+    float *d1 = malloc(sizeof(float) * (size_t)n), *d2 = malloc(sizeof(float) * (size_t)n);
+    for (int i = 0; i < n; i++)
+        first[i] = r.first[i] > 0.5f;
+    assert_int_equal(sq__rd_feature_distances(first, r.nu, r.nv, 1.0f, d1, d2), 0);
+    const float gap = (float)(3.0 / 256 * r.nu);
+    long near = 0;
+    on = 0;
+    for (int i = 0; i < n; i++) {
+        on += r.value[i] > 0.5f;
+        near += r.value[i] > 0.0f && d1[i] <= gap;
+    }
+    print_message("with a gap of %.2f cells: %ld cells striped, %ld nearer\n", (double)gap, on, near);
+    assert_true(on > n / 50);
+    if (near)
+        fail_msg("%ld second-system cells within the gap", near);
+    free(first);
+    free(d1);
+    free(d2);
+    sq__rd_result_free(&r);
+}
+
 static void bad_parameters_are_refused_by_name(void **state)
 {
     (void)state;
@@ -372,7 +590,8 @@ static void shipped_complex_presets_render(void **state)
 {
     (void)state;
     static const char *const names[] = {"cheetah", "leopard", "giraffe", "python_reticulated",
-                                        "boa_saddles", "viper_blotches"};
+                                        "boa_saddles", "viper_blotches", "viper_zigzag",
+                                        "stripes_on_stripes"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
         char rel[256], path[1024];
         snprintf(rel, sizeof rel, "presets/complex/%s.json", names[k]);
@@ -408,6 +627,10 @@ int main(void)
         cmocka_unit_test(texture_is_seamless),
         cmocka_unit_test(same_pixels_on_one_and_two_threads),
         cmocka_unit_test(cascade_makes_two_feature_sizes),
+        cmocka_unit_test(feature_distances_are_nearest_and_other),
+        cmocka_unit_test(net_cascade_is_one_thin_connected_net),
+        cmocka_unit_test(rosette_ring_surrounds_the_large_spots),
+        cmocka_unit_test(stripes_between_stripes_leave_gaps),
         cmocka_unit_test(bad_parameters_are_refused_by_name),
         cmocka_unit_test(shipped_complex_presets_render),
     };

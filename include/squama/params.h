@@ -43,6 +43,7 @@ typedef enum SqRdCascade {
     SQ_RD_CASCADE_SPOTS,    /* small spots between the frozen first features (cheetah) */
     SQ_RD_CASCADE_ROSETTES, /* the same with the frozen cells reset to rest (leopard) */
     SQ_RD_CASCADE_STRIPES,  /* stripes between the frozen first features (giraffe, multi-width) */
+    SQ_RD_CASCADE_NET,      /* lines where the first features' zones meet (reticulation) */
     SQ_RD_CASCADE_COUNT
 } SqRdCascade;
 
@@ -71,6 +72,8 @@ typedef enum SqScalesLayout {
     double Longitudinal_StripesWidth;                                                      \
     double Longitudinal_StripesColor[4];                                                   \
     double Longitudinal_Pinch;                                                             \
+    double Longitudinal_ZigzagAmplitude;                                                   \
+    int Longitudinal_ZigzagCount;                                                          \
                                                                                            \
     /* spots (§4.2.3) */                                                                   \
     double Spots_Scale;                                                                    \
@@ -112,6 +115,9 @@ typedef enum SqScalesLayout {
     double RD_Threshold2;                                                                  \
     double RD_Color3[4];                                                                   \
     double RD_Softness;                                                                    \
+    double RD_NetWidth;                                                                    \
+    double RD_RosetteWidth;                                                                \
+    double RD_CascadeGap;                                                                  \
                                                                                            \
     /* pattern post-process (§4.2.4, §4.2.7): per pattern, so a layer has its own */      \
     int Pattern_RotatePattern90Degrees;                                                    \
