@@ -24,7 +24,7 @@ static const char *const pattern_common[] = {
 
 static const char *const longitudinal[] = {
     "Longitudinal_NumberOfStripes", "Longitudinal_StripesWidth", "Longitudinal_StripesColor",
-    "Longitudinal_Pinch", NULL,
+    "Longitudinal_Pinch", "Longitudinal_ZigzagAmplitude", "Longitudinal_ZigzagCount", NULL,
 };
 
 static const char *const transversal[] = {
@@ -47,7 +47,8 @@ static const char *const other_simple[] = {
 static const char *const complex_rd[] = {
     "RD_System", "RD_Cascade", "RD_ReactionSpeed", "RD_ReactionSpeed2", "RD_BetaVariation",
     "RD_StripeDiffusion", "RD_StripeDiffusion2", "RD_Anisotropy", "RD_FlankSpeed", "RD_Color1",
-    "RD_Threshold1", "RD_Color2", "RD_Threshold2", "RD_Color3", "RD_Softness", NULL,
+    "RD_Threshold1", "RD_Color2", "RD_Threshold2", "RD_Color3", "RD_Softness", "RD_NetWidth",
+    "RD_RosetteWidth", "RD_CascadeGap", NULL,
 };
 
 /* A layer's own settings, for the layered kind's one layer. */
