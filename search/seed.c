@@ -294,6 +294,17 @@ static void pattern_change(const SqImage *with, const SqImage *plain, double *co
     *contrast = changed ? sum / (double)changed : 0;
 }
 
+/* A variation of an origin that fails plausible() itself (rings over most of the skin, a
+ * faint pattern) is held to the origin's own measures, halfway to the extremes. */
+static int plausible_near(const SqSeedCandidate *c, const SqSeedCandidate *origin)
+{
+    if (c->params.Pattern_Type == SQ_PATTERN_NONE)
+        return 1;
+    const double lo = fmin(COVERAGE_MIN, 0.5 * origin->coverage);
+    const double hi = fmax(COVERAGE_MAX, origin->coverage + 0.5 * (1 - origin->coverage));
+    return c->coverage >= lo && c->coverage <= fmin(hi, 0.99) && c->contrast >= fmin(CONTRAST_MIN, 0.5 * origin->contrast);
+}
+
 static int plausible(const SqSeedCandidate *c)
 {
     if (c->params.Pattern_Type == SQ_PATTERN_NONE)
@@ -510,16 +521,59 @@ static void run_end(Run *r)
     free(r->plain);
 }
 
+/* How far a colour moves in a variation, per unit of step: CIELAB lightness and a*, b*
+ * (a gene step of 0.1 moves a colour about 6 CIEDE2000 units: the same skin, a little
+ * lighter or warmer). Colours move together rather than channel by channel: independent
+ * steps of r, g and b turn a brown purple or green at once. */
+static const double COLOUR_STEP_L = 40, COLOUR_STEP_AB = 25;
+
+static void vary_colour(SqRng *r, double d, double *rgba)
+{
+    float rgb[3] = {(float)rgba[0], (float)rgba[1], (float)rgba[2]}, lab[3];
+    sq_fit_srgb_to_lab(rgb, lab);
+    lab[0] += (float)(d * COLOUR_STEP_L * sq__rng_normal(r));
+    lab[1] += (float)(d * COLOUR_STEP_AB * sq__rng_normal(r));
+    lab[2] += (float)(d * COLOUR_STEP_AB * sq__rng_normal(r));
+    sq_fit_lab_to_srgb(lab, rgb);
+    for (int c = 0; c < 3; c++)
+        rgba[c] = fmin(fmax(rgb[c], 0), 1);
+}
+
+/* A band's begin and end (transversal) move as its centre and its length, so that a band
+ * stays a band rather than wrapping over the whole tile when its end passes its begin: the
+ * centre by a normal step of d/2 of the tile, the length by a factor exp(2 d N(0,1)), within
+ * 1% to 90% of the tile. A band left out (begin = end) stays out. */
+static void vary_band(SqRng *r, double d, double *be)
+{
+    if (be[0] == be[1])
+        return;
+    const double len = be[1] > be[0] ? be[1] - be[0] : be[1] + 1 - be[0];
+    const double c = be[0] + len / 2 + 0.5 * d * sq__rng_normal(r);
+    const double w = fmin(fmax(len * exp(2 * d * sq__rng_normal(r)), 0.01), 0.9);
+    be[0] = fmod(fmod(c - w / 2, 1) + 1, 1);
+    be[1] = fmod(fmod(c + w / 2, 1) + 1, 1);
+}
+
 /* A variation: every gene but the categorical ones (structure) moved by a normal step of
  * standard deviation d in its [0, 1] range, in value space so that a value outside the
  * suggested range is moved from where it is, not first clamped into it; kept within the
- * hard range. */
+ * hard range. Colours move in CIELAB instead (vary_colour), bands as bands (vary_band). */
 static void vary(SqRng *r, const SqGenome *g, const SqParams *origin, double d, SqParams *p)
 {
     *p = *origin;
     for (int i = 0; i < g->n; i++) {
         const SqGene *e = &g->genes[i];
         const SqParamSpec *s = e->spec;
+        if (s->type == SQ_PT_COLOR) {
+            if (e->comp == 0)
+                vary_colour(r, d, (double *)sq_param_ptr(p, s));
+            continue;
+        }
+        if (strncmp(s->name, "Transversal_BeginEnd", 20) == 0) {
+            if (e->comp == 0)
+                vary_band(r, d, (double *)sq_param_ptr(p, s));
+            continue;
+        }
         const double step = d * sq__rng_normal(r);
         if (s->type == SQ_PT_ENUM)
             continue;
@@ -539,12 +593,21 @@ static void vary(SqRng *r, const SqGenome *g, const SqParams *origin, double d, 
     }
 }
 
+/* Ascending to_origin; ties (equal features) in the order drawn, by the parameters' seed
+ * and bytes so that qsort's order does not matter. */
+static int by_distance_to_origin(const void *a, const void *b)
+{
+    const SqSeedCandidate *x = a, *y = b;
+    if (x->to_origin != y->to_origin)
+        return x->to_origin < y->to_origin ? -1 : 1;
+    return memcmp(&x->params, &y->params, sizeof x->params);
+}
+
 /* Where candidates come from: random draws of a genome, or variations of an origin. */
 typedef struct Source {
     const SqGenome *g;
     const SqParams *origin;       /* NULL: random draws */
-    const SqFeatures *anchor;     /* the origin's features: distances to it, the first pick */
-    int keep_implausible;         /* 1: keep them too (an origin that is implausible itself) */
+    const SqSeedCandidate *anchor; /* the rendered origin: plausibility and distances */
 } Source;
 
 /* Rounds of `want` candidates drawn and rendered until `want` are plausible (or
@@ -574,7 +637,7 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
         for (int i = 0; i < want; i++) {
             if (!ok[i])
                 out->failed++;
-            else if (!src->keep_implausible && !plausible(&batch[i]))
+            else if (src->anchor ? !plausible_near(&batch[i], src->anchor) : !plausible(&batch[i]))
                 out->implausible++;
             else if (out->npool < want)
                 out->pool[out->npool++] = batch[i];
@@ -587,10 +650,18 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
                           src->origin ? "; try a smaller distance" : "");
         goto done;
     }
-    if (src->anchor)
+    const SqFeatures *anchor = src->anchor ? &src->anchor->features : NULL;
+    int m = out->npool;
+    if (anchor) {
+        /* the nearer half (at least n) of the variations: the far ones are mostly broken
+         * (spots that vanish, stripes that merge), and farthest-point sampling would take
+         * them first */
         for (int i = 0; i < out->npool; i++)
-            out->pool[i].to_origin = sq_seed_distance(src->anchor, &out->pool[i].features);
-    if ((st = farthest_points(r, out->pool, out->npool, src->anchor, o->n, pick, err)) == SQ_OK)
+            out->pool[i].to_origin = sq_seed_distance(anchor, &out->pool[i].features);
+        qsort(out->pool, (size_t)out->npool, sizeof *out->pool, by_distance_to_origin);
+        m = out->npool / 2 > o->n ? out->npool / 2 : o->n;
+    }
+    if ((st = farthest_points(r, out->pool, m, anchor, o->n, pick, err)) == SQ_OK)
         st = gather(out, out->pool, pick, o->n, err);
 done:
     free(batch);
@@ -644,9 +715,8 @@ SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResu
         if (evaluate(orig, o->size, r.threads, &r.maps[0], &r.plain[0], err) != 0) {
             st = err && err->status != SQ_OK ? err->status : SQ_ERR_INVALID;
         } else {
-            /* a skin that was plausible stays so; one that was not is not held to it */
-            const Source src = {.g = &g, .origin = origin, .anchor = &orig->features,
-                                .keep_implausible = !plausible(orig)};
+            /* held to plausible(), or to the origin's own measures when it fails them */
+            const Source src = {.g = &g, .origin = origin, .anchor = orig};
             st = pool_and_pick(&r, &src, o->n * (o->pool > 0 ? o->pool : 4), out, err);
         }
     }

@@ -274,7 +274,8 @@ const char *sq_fit_method_name(SqFitMethod m);
  *
  * sq_seed_near moves every gene of the origin's genome by a normal step of standard
  * deviation `distance` in the gene's [0, 1] range (discrete genes change level when the
- * step crosses one), keeping its category, its structure (the automaton, the
+ * step crosses one; colours move in CIELAB, by distance x 40 in lightness and x 25 in a*
+ * and b*, rather than channel by channel), keeping its category, its structure (the automaton, the
  * reaction-diffusion system and cascade, the pattern layers) and every parameter that is
  * not a gene, and picks n of a pool of such variations by farthest-point sampling started
  * from the origin.
