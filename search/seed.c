@@ -200,7 +200,8 @@ static const struct {
     {"Longitudinal_Pinch", 0.7, 3},    {"Spots_Tiling", 0.6, 4},       {"Pattern_BlurAmount", 0, 4},
     {"Pattern_Warp_Large", 0, 4},      {"Outline_Edge_Width", 0.5, 6}, {"RD_ReactionSpeed", 0.03, 0.12},
     {"RD_Anisotropy", 0.5, 2},         {"RD_BetaVariation", 0, 2},     {"Longitudinal_StripesWidth", 0.05, 0.5},
-    {"Spots_Interstice", 0, 0.6},
+    {"Spots_Interstice", 0, 0.6},       {"RD_StripeDiffusion", 0.005, 0.05}, {"RD_FlankSpeed", 0.7, 2},
+    {"RD_Threshold1", 0.3, 0.65},
 };
 
 /* Rings as banded snakes wear them, instead of three uniform intervals (which mostly fill
