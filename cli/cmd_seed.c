@@ -208,7 +208,8 @@ static cJSON *summary(const Seeding *s)
             cJSON_AddItemToObject(e, "contrast", sq__json_exact_number(c->contrast));
         }
         if (s->fit) {
-            const SqFitCandidate *f = &s->fit->front[i];
+            const SqFitCandidate *f = &s->fit->front[c->source];
+            cJSON_AddNumberToObject(e, "front_index", c->source);
             cJSON *o = cJSON_AddObjectToObject(e, "objectives");
             for (int k = 0; k < SQ_OBJ_COUNT; k++)
                 cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(f->obj[k]));
@@ -249,7 +250,8 @@ static void preset_info(const Seeding *s, int i, SqPresetInfo *info)
         snprintf(info->notes, sizeof info->notes,
                  "squama seed --from-photo %s --seed %llu: member %d of the fit's Pareto front (best first), view "
                  "scale %.3f; distance to the photo %.3f%s",
-                 s->origin, (unsigned long long)s->seed, i, s->fit->front[i].view_scale, c->to_origin, near);
+                 s->origin, (unsigned long long)s->seed, c->source, s->fit->front[c->source].view_scale, c->to_origin,
+                 near);
         break;
     }
 }
@@ -514,7 +516,7 @@ int cmd_seed(int argc, char **argv)
             fo.threads = so.threads;
             fo.budget = max_evals > 0 && budget == 0 ? 0 : budget > 0 ? budget : 60;
             fo.max_evals = max_evals;
-            fo.front_max = so.n;
+            fo.front_max = so.n > 24 ? so.n : 24;
             fo.progress = on_fit_progress;
             fo.ctx = &px;
             if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)

@@ -640,8 +640,10 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
                 out->failed++;
             else if (src->anchor ? !plausible_near(&batch[i], src->anchor) : !plausible(&batch[i]))
                 out->implausible++;
-            else if (out->npool < want)
+            else if (out->npool < want) {
+                batch[i].source = out->drawn - want + i;
                 out->pool[out->npool++] = batch[i];
+            }
         }
     }
     if (out->npool < o->n) {
@@ -738,16 +740,25 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
         return sq_error_set(err, SQ_ERR_INVALID, "seed", "the fit has no front");
     if ((st = run_begin(&r, o, out, err)) != SQ_OK)
         return st;
-    const int n = fit->nfront < o->n ? fit->nfront : o->n;
-    int *ok = malloc(sizeof(int) * (size_t)n), *pick = malloc(sizeof(int) * (size_t)n);
-    out->pool = malloc(sizeof *out->pool * (size_t)n);
+    /* the first o->n distinct members: a fit's front can hold one candidate twice (a
+     * niche's best and its copy in the archive, re-scored alike) */
+    int n = 0;
+    int *ok = malloc(sizeof(int) * (size_t)fit->nfront), *pick = malloc(sizeof(int) * (size_t)fit->nfront);
+    out->pool = malloc(sizeof *out->pool * (size_t)fit->nfront);
     if (!ok || !pick || !out->pool) {
         st = sq_error_set(err, SQ_ERR_NOMEM, "seed", "out of memory");
         goto done;
     }
-    for (int i = 0; i < n; i++) {
-        out->pool[i].params = fit->front[i].params;
-        pick[i] = i;
+    for (int i = 0; i < fit->nfront && n < o->n; i++) {
+        int seen = 0;
+        for (int j = 0; j < n && !seen; j++)
+            seen = sq_params_equal(&out->pool[j].params, &fit->front[i].params);
+        if (seen)
+            continue;
+        out->pool[n].params = fit->front[i].params;
+        out->pool[n].source = i;
+        pick[n] = n;
+        n++;
     }
     render_all(&r, out->pool, n, ok, 0, n);
     for (int i = 0; i < n; i++)
@@ -756,7 +767,7 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
             goto done;
         }
     for (int i = 0; i < n; i++)
-        out->pool[i].to_origin = sq_seed_objective_distance(fit->front[i].obj);
+        out->pool[i].to_origin = sq_seed_objective_distance(fit->front[out->pool[i].source].obj);
     out->npool = out->drawn = n;
     st = gather(out, out->pool, pick, n, err);
 done:

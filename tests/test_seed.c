@@ -191,33 +191,39 @@ static void near_variations(void **state)
     }
 }
 
-/* The front of a fit as seeds: in order, each with its objectives' distance to the photo. */
+/* The front of a fit as seeds: in order, each once, each with its objectives' distance to
+ * the photo. */
 static void from_fit(void **state)
 {
     (void)state;
     char path[4096];
-    SqFitCandidate front[3];
+    SqFitCandidate front[4];
     SqError err;
     const char *files[] = {"presets/thesis/table_4_4_spots.json", "presets/thesis/table_4_3_longitudinal.json",
                            "presets/thesis/table_4_1_transversal.json"};
     for (int i = 0; i < 3; i++) {
-        assert_int_equal(sq_preset_load(src_path(path, sizeof path, files[i]), &front[i].params, NULL, &err), SQ_OK);
-        for (int k = 0; k < SQ_OBJ_COUNT; k++)
-            front[i].obj[k] = 0.1 * (i + 1);
-        front[i].view_scale = 1;
+        const int k = i == 0 ? 0 : i + 1; /* front[1] is front[0] again, as fits' fronts can have it */
+        assert_int_equal(sq_preset_load(src_path(path, sizeof path, files[i]), &front[k].params, NULL, &err), SQ_OK);
+        for (int j = 0; j < SQ_OBJ_COUNT; j++)
+            front[k].obj[j] = 0.1 * (k + 1);
+        front[k].view_scale = 1;
     }
-    SqFitResult fit = {.front = front, .nfront = 3, .best = front[0]};
+    front[1] = front[0];
+    SqFitResult fit = {.front = front, .nfront = 4, .best = front[0]};
     SqSeedResult r;
     SqSeedOptions o = small(2, 2);
     assert_int_equal(sq_seed_from_fit(&fit, &o, &r, &err), SQ_OK);
     assert_int_equal(r.n, 2);
     assert_true(sq_params_equal(&r.picks[0].params, &front[0].params));
-    assert_true(sq_params_equal(&r.picks[1].params, &front[1].params));
+    assert_true(sq_params_equal(&r.picks[1].params, &front[2].params));
+    assert_int_equal(r.picks[0].source, 0);
+    assert_int_equal(r.picks[1].source, 2);
     assert_true(r.picks[0].to_origin < r.picks[1].to_origin);
-    assert_true(fabs(r.picks[0].to_origin - sq_seed_objective_distance(front[0].obj)) < 1e-12);
+    assert_true(fabs(r.picks[1].to_origin - sq_seed_objective_distance(front[2].obj)) < 1e-12);
     assert_int_equal(r.picks[0].nearest_index, 1);
+    assert_true(r.min_distance > 0.05);
     sq_seed_result_free(&r);
-    o.n = 10; /* more than the front: the whole front */
+    o.n = 10; /* more than the front: the whole front, once each */
     assert_int_equal(sq_seed_from_fit(&fit, &o, &r, &err), SQ_OK);
     assert_int_equal(r.n, 3);
     sq_seed_result_free(&r);

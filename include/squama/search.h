@@ -309,6 +309,8 @@ typedef struct SqSeedCandidate {
     double nearest;     /* feature distance to the nearest other pick (INFINITY when n = 1) */
     int nearest_index;  /* that pick's index, or -1 */
     double to_origin;   /* sq_seed_near: feature distance to the origin; NAN otherwise */
+    int source;         /* which one it was: the draw's number (from 0), or the index of
+                           the fit's front member (sq_seed_from_fit) */
 } SqSeedCandidate;
 
 typedef struct SqSeedResult {
@@ -341,7 +343,7 @@ SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *ou
 /* n variations around origin (valid; any category), each with its distance to it. */
 SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
 
-/* The first n members of a fit's front (all of them when it has fewer), each with its
+/* The first n distinct members of a fit's front (all of them when it has fewer), each with its
  * distance to the photo (sq_seed_objective_distance of its objectives, in to_origin) and
  * to the nearest other; coverage and contrast as for sq_seed_category. */
 SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
