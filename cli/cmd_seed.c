@@ -265,10 +265,21 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     Staging stg = {.files = calloc((size_t)r->n + 2, sizeof *stg.files)};
     if (!stg.files)
         return sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
-    snprintf(stg.dir, sizeof stg.dir, "%s.tmp-XXXXXX", outdir);
     size_t len = strlen(outdir);
     while (len > 1 && outdir[len - 1] == '/') /* "out/" -> "out.tmp-..." */
         len--;
+    /* the parent first: mkdtemp makes one folder only */
+    snprintf(stg.dir, sizeof stg.dir, "%.*s", (int)len, outdir);
+    char *slash = strrchr(stg.dir, '/');
+    if (slash && slash != stg.dir) {
+        *slash = '\0';
+        if (cli_mkdirs(stg.dir) != 0) {
+            SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create the folder: %s", strerror(errno));
+            stg.dir[0] = 0;
+            staging_clean(&stg);
+            return st;
+        }
+    }
     snprintf(stg.dir, sizeof stg.dir, "%.*s.tmp-XXXXXX", (int)len, outdir);
     if (!mkdtemp(stg.dir)) {
         SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create a temporary folder: %s", strerror(errno));

@@ -675,6 +675,7 @@ done:
 
 SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *out, SqError *err)
 {
+    memset(out, 0, sizeof *out);
     Run r;
     SqGenome g;
     SqStatus st = check_options(o, 0, err);
@@ -701,6 +702,7 @@ SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *ou
 
 SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResult *out, SqError *err)
 {
+    memset(out, 0, sizeof *out);
     Run r;
     SqGenome g;
     SqStatus st = check_options(o, 1, err);
@@ -732,6 +734,7 @@ SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResu
 
 SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeedResult *out, SqError *err)
 {
+    memset(out, 0, sizeof *out);
     Run r;
     SqStatus st = check_options(o, 0, err);
     if (st != SQ_OK)

@@ -252,10 +252,10 @@ check "seed on one thread" 0
 for f in 00.json 01.json 02.json seeds.json; do
   cmp -s "$TMP/sd/$f" "$TMP/sd1/$f" || { echo "FAIL: seed $f differs between 2 threads and 1"; fails=$((fails + 1)); }
 done
-run seed --near "$SRC/presets/thesis/table_4_4_spots.json" -n 2 --distance 0.1 -o "$TMP/sdn" --size 32 --json
+run seed --near "$SRC/presets/thesis/table_4_4_spots.json" -n 2 --distance 0.1 -o "$TMP/nested/sdn" --size 32 --json
 check "seed --near --json" 0 out '"mode": "near"'
 if command -v python3 >/dev/null; then
-  python3 - "$TMP/sd/seeds.json" "$out" "$TMP/sdn/00.json" <<'PY' || { echo "FAIL: seeds.json content"; fails=$((fails + 1)); }
+  python3 - "$TMP/sd/seeds.json" "$out" "$TMP/nested/sdn/00.json" <<'PY' || { echo "FAIL: seeds.json content"; fails=$((fails + 1)); }
 import json, sys
 s = json.load(open(sys.argv[1]))
 assert s["format"] == "squama-seeds/1" and s["mode"] == "category" and s["category"] == "longitudinal"
