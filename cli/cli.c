@@ -1,3 +1,4 @@
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,4 +44,20 @@ int cli_parse_size(const char *s, int lo, int hi, int *w, int *h)
     *w = (int)a;
     *h = (int)b;
     return 1;
+}
+
+/* "60", "60s", "2m", "1.5m" -> seconds; -1 when malformed. */
+double cli_parse_time(const char *s)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || !(v > 0) || !isfinite(v))
+        return -1;
+    if (*end == 's' && end[1] == 0)
+        return v;
+    if (*end == 'm' && end[1] == 0)
+        return 60 * v;
+    if (*end == 'h' && end[1] == 0)
+        return 3600 * v;
+    return *end ? -1 : v;
 }

@@ -19,6 +19,7 @@ int cmd_photo(int argc, char **argv);
 int cmd_prepare(int argc, char **argv);
 int cmd_score(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
+int cmd_seed(int argc, char **argv);
 
 /* mkdir -p; 0 or -1 with errno. */
 int cli_mkdirs(const char *path);
@@ -38,6 +39,9 @@ int cli_usage(const char *cmd, const char *fmt, ...) __attribute__((format(print
 
 /* Parses "N" or "WxH" with both sides in [lo, hi]; 1 on success. */
 int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);
+
+/* A time: "60", "60s", "2m", "1.5m", "1h" -> seconds; -1 when malformed or not > 0. */
+double cli_parse_time(const char *s);
 
 /* Where the shipped presets live: $SQUAMA_PRESETS, else the source tree's presets/. */
 const char *cli_presets_dir(void);

@@ -185,22 +185,6 @@ static void progress(const SqFitProgress *p, void *ctx)
     fflush(stderr);
 }
 
-/* "60", "60s", "2m", "1.5m" -> seconds; -1 when malformed. */
-static double parse_time(const char *s)
-{
-    char *end;
-    double v = strtod(s, &end);
-    if (end == s || !(v > 0) || !isfinite(v))
-        return -1;
-    if (*end == 's' && end[1] == 0)
-        return v;
-    if (*end == 'm' && end[1] == 0)
-        return 60 * v;
-    if (*end == 'h' && end[1] == 0)
-        return 3600 * v;
-    return *end ? -1 : v;
-}
-
 /* Loads DIR/checkpoint into seed candidates. */
 static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, double *seconds, SqError *err)
 {
@@ -455,7 +439,7 @@ int cmd_fit(int argc, char **argv)
         case 'm': mask_path = optarg; break;
         case 'o': outdir = optarg; break;
         case 'b':
-            fo.budget = parse_time(optarg);
+            fo.budget = cli_parse_time(optarg);
             if (fo.budget <= 0)
                 return cli_usage("fit", "--budget takes a time such as 60s, 90 or 2m, got '%s'", optarg);
             budget_given = 1;

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "cli.h"
+#include "sheet.h"
 #include "squama/fitness.h"
 #include "squama/generator.h"
 #include "squama/io.h"
@@ -51,79 +52,41 @@ static double now_ms(void)
     return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
 }
 
-/* The sheet's look: tiles `size` square, a label band beneath each, gaps between. */
-enum { SHEET_GAP = 8, SHEET_LABEL = 22 };
-
-static void paste(SqImage *dst, const SqImage *src, int x0, int y0)
+/* A contact sheet of preset files, named by their file names (without folder and
+ * extension). Nothing is written unless every preset loads and renders. */
+static int render_sheet(const char *out, char **files, int n, int size, int cols, SqGenOptions go, long seed,
+                        int quiet)
 {
-    for (int y = 0; y < src->height; y++)
-        for (int x = 0; x < src->width; x++) {
-            const float *s = src->px + ((size_t)y * src->width + x) * src->channels;
-            float *d = dst->px + ((size_t)(y0 + y) * dst->width + x0 + x) * 3;
-            memcpy(d, s, sizeof(float) * 3);
-        }
-}
-
-/* A contact sheet of presets: each one's base colour at size x size, in a grid of cols
- * columns, its name beneath. Nothing is written unless every preset renders. */
-static int render_sheet(const char *out, char **presets, int n, int size, int cols, SqGenOptions go,
-                        long seed, int quiet)
-{
-    if (cols <= 0)
-        for (cols = 1; cols * cols < n; cols++)
-            ;
-    const int rows = (n + cols - 1) / cols;
-    const int cw = size + SHEET_GAP, ch = size + SHEET_LABEL + SHEET_GAP;
-    SqImage sheet;
     SqError err;
-    if (sq_image_alloc(&sheet, SHEET_GAP + cols * cw, SHEET_GAP + rows * ch, 3, SQ_SPACE_SRGB) != 0) {
-        sq_error_set(&err, SQ_ERR_NOMEM, out, "out of memory for a sheet of %d x %d tiles of %d pixels", cols,
-                     rows, size);
-        return cli_fail(&err);
+    SqParams *presets = malloc(sizeof *presets * (size_t)n);
+    char(*names)[256] = malloc(sizeof *names * (size_t)n);
+    const char **labels = malloc(sizeof *labels * (size_t)n);
+    int rc = CLI_OK;
+    if (!presets || !names || !labels) {
+        sq_error_set(&err, SQ_ERR_NOMEM, out, "out of memory for %d presets", n);
+        rc = cli_fail(&err);
     }
-    for (size_t i = 0; i < (size_t)sheet.width * sheet.height * 3; i++)
-        sheet.px[i] = 0.16f;
-    go.width = go.height = size;
-    int rc = CLI_OK, labels = 1;
     for (int i = 0; i < n && rc == CLI_OK; i++) {
-        SqParams p;
-        SqTextures tex;
-        if (sq_preset_load(presets[i], &p, NULL, &err) != SQ_OK) {
+        if (sq_preset_load(files[i], &presets[i], NULL, &err) != SQ_OK) {
             rc = cli_fail(&err);
             break;
         }
         if (seed >= 0)
-            p.Seed = (int)seed;
-        if (sq_gen_render(&p, &go, &tex, &err) != SQ_OK) {
-            rc = cli_fail(&err);
-            break;
-        }
-        const int x = SHEET_GAP + (i % cols) * cw, y = SHEET_GAP + (i / cols) * ch;
-        paste(&sheet, &tex.basecolor, x, y);
-        sq_gen_textures_free(&tex);
-        /* the file's name without its folder and extension */
-        char label[256];
-        const char *base = strrchr(presets[i], '/');
-        snprintf(label, sizeof label, "%s", base ? base + 1 : presets[i]);
-        char *dot = strrchr(label, '.');
-        if (dot && dot != label)
+            presets[i].Seed = (int)seed;
+        const char *base = strrchr(files[i], '/');
+        snprintf(names[i], sizeof names[i], "%s", base ? base + 1 : files[i]);
+        char *dot = strrchr(names[i], '.');
+        if (dot && dot != names[i])
             *dot = '\0';
-        /* as much of it as fits: DejaVu Sans at 13 px is about 7.5 px a glyph */
-        const size_t fit = (size_t)(size / 7.5);
-        if (strlen(label) > fit && fit > 3)
-            strcpy(label + fit - 3, "...");
-        static const float ink[3] = {0.92f, 0.92f, 0.92f};
-        if (labels && sq_io_draw_text(&sheet, x + 2, y + size + 16, 13, label, ink, &err) != SQ_OK) {
-            labels = 0; /* no font: the sheet goes unlabelled, in the order given */
-            fprintf(stderr, "squama: the sheet has no labels (%s); the presets are in the order given\n",
-                    err.what);
-        }
+        labels[i] = names[i];
     }
-    if (rc == CLI_OK && sq_io_write_image(out, &sheet, NULL, &err) != SQ_OK)
+    if (rc == CLI_OK && cli_sheet_write(out, presets, labels, n, size, &cols, go, &err) != SQ_OK)
         rc = cli_fail(&err);
     if (rc == CLI_OK && !quiet)
-        printf("wrote %s: %d preset%s, %d x %d\n", out, n, n == 1 ? "" : "s", cols, rows);
-    sq_image_free(&sheet);
+        printf("wrote %s: %d preset%s, %d x %d\n", out, n, n == 1 ? "" : "s", cols, (n + cols - 1) / cols);
+    free(presets);
+    free(names);
+    free(labels);
     return rc;
 }
 

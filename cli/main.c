@@ -14,6 +14,7 @@ static const CliCommand commands[] = {
     {"prepare", "find the snake in a photo and straighten its body into a strip", cmd_prepare},
     {"score", "score presets against a photo: objectives and Pareto rank", cmd_score},
     {"fit", "fit the generator to a photo: best preset, front, textures, report", cmd_fit},
+    {"seed", "starting presets for artists: diverse, near a preset, or from a photo", cmd_seed},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "rng.h"
+#include "search_internal.h"
 #include "squama/search.h"
 
 enum {
@@ -278,29 +279,6 @@ static void report(Fit *f, const char *stage, int category)
 
 /* ---- stage 1: screening ---- */
 
-/* The colour parameters a category paints its pattern with. */
-static double *pattern_colours(SqPatternSpec *p, int category, double **list)
-{
-    int n = 0;
-    switch (category) {
-    case SQ_PATTERN_LONGITUDINAL: list[n++] = p->Longitudinal_StripesColor; break;
-    case SQ_PATTERN_TRANSVERSAL:
-        for (int i = 0; i < 3; i++)
-            list[n++] = p->Transversal_Color[i];
-        break;
-    case SQ_PATTERN_SPOTS: list[n++] = p->Spots_Color; break;
-    case SQ_PATTERN_OTHER_SIMPLE: list[n++] = p->CustomPattern_Color_Inside; break;
-    case SQ_PATTERN_COMPLEX:
-        list[n++] = p->RD_Color1;
-        list[n++] = p->RD_Color2;
-        list[n++] = p->RD_Color3;
-        break;
-    default: break;
-    }
-    list[n] = NULL;
-    return list[0];
-}
-
 static void set_colour(Fit *f, double *dst, int k)
 {
     for (int c = 0; c < 3; c++)
@@ -319,10 +297,10 @@ static void colours_from_palette(Fit *f, SqParams *p, int category)
         bg = 1;
     set_colour(f, p->Background_Color, bg);
     double *list[8];
-    pattern_colours(&p->pattern, category, list);
+    sq__pattern_colours(&p->pattern, category, list);
     for (int l = 0; l <= p->Pattern_Layers.count; l++) {
         if (l > 0) /* a layer's pattern: other palette colours than the ground's too */
-            pattern_colours(&p->Pattern_Layers.layer[l - 1].spec, p->Pattern_Layers.layer[l - 1].spec.Pattern_Type,
+            sq__pattern_colours(&p->Pattern_Layers.layer[l - 1].spec, p->Pattern_Layers.layer[l - 1].spec.Pattern_Type,
                             list);
         for (int i = 0; list[i]; i++) {
             int k = bg;

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "search_internal.h"
 #include "squama/search.h"
 
 /* Parameters every category searches. Roughness reaches a photo as the gloss of its
@@ -22,9 +23,11 @@ static const char *const pattern_common[] = {
     "Has_Outline", "Outline_Color", "Outline_Edge_Width", NULL,
 };
 
+/* Not the zig-zag (Longitudinal_ZigzagAmplitude): drawn uniformly over its range it would
+ * bend nearly every stripe, while most striped snakes have straight ones. */
 static const char *const longitudinal[] = {
     "Longitudinal_NumberOfStripes", "Longitudinal_StripesWidth", "Longitudinal_StripesColor",
-    "Longitudinal_Pinch", "Longitudinal_ZigzagAmplitude", "Longitudinal_ZigzagCount", NULL,
+    "Longitudinal_Pinch", NULL,
 };
 
 static const char *const transversal[] = {
@@ -233,4 +236,26 @@ void sq_genome_levels(const SqGenome *g, int *levels)
 {
     for (int i = 0; i < g->n; i++)
         levels[i] = g->genes[i].levels;
+}
+
+int sq__pattern_colours(SqPatternSpec *p, int category, double **list)
+{
+    int n = 0;
+    switch (category) {
+    case SQ_PATTERN_LONGITUDINAL: list[n++] = p->Longitudinal_StripesColor; break;
+    case SQ_PATTERN_TRANSVERSAL:
+        for (int i = 0; i < 3; i++)
+            list[n++] = p->Transversal_Color[i];
+        break;
+    case SQ_PATTERN_SPOTS: list[n++] = p->Spots_Color; break;
+    case SQ_PATTERN_OTHER_SIMPLE: list[n++] = p->CustomPattern_Color_Inside; break;
+    case SQ_PATTERN_COMPLEX:
+        list[n++] = p->RD_Color1;
+        list[n++] = p->RD_Color2;
+        list[n++] = p->RD_Color3;
+        break;
+    default: break;
+    }
+    list[n] = NULL;
+    return n;
 }

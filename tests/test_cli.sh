@@ -224,4 +224,56 @@ check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
 
+# seed: starting presets for artists
+run seed --help;          check "seed --help" 0 out "usage: squama seed" out "farthest-point"
+run seed -o "$TMP/sd";    check "seed without a mode" 2 err "say what to start from"
+run seed --category stripes -o "$TMP/sd"; check "seed unknown category" 2 err "--category is one of none, longitudinal"
+run seed --category spots -n 0 -o "$TMP/sd"; check "seed n too small" 2 err "-n must be 1 to 256, got '0'"
+run seed --category spots -n 257 -o "$TMP/sd"; check "seed n too large" 2 err "-n must be 1 to 256"
+run seed --category spots;  check "seed without -o" 2 err "say where the presets go"
+run seed --category spots --near "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/sd"; check "seed two modes" 2 err "exclude each other"
+run seed --near "$SRC/presets/thesis/table_4_4_spots.json" --distance 2 -o "$TMP/sd"; check "seed distance out of range" 2 err "--distance must be 0.01 to 1, got '2'"
+run seed --category spots --distance 0.2 -o "$TMP/sd"; check "seed distance without --near" 2 err "--distance is for --near"
+run seed --near "$TMP/none.json" -o "$TMP/sd"; check "seed missing preset" 1 err "cannot open preset: No such file or directory ($TMP/none.json)"
+run seed --near "$TMP/typo.json" -o "$TMP/sd"; check "seed malformed preset" 1 err "unknown key \"Spots_Tilling\"" err "($TMP/typo.json:2)"
+[ -e "$TMP/sd" ] && { echo "FAIL: a failed seed wrote its folder"; fails=$((fails + 1)); }
+mkdir -p "$TMP/busy" && touch "$TMP/busy/keep.txt"
+run seed --category spots -n 2 -o "$TMP/busy"; check "seed into a folder in use" 1 err "the output folder is not empty" err "($TMP/busy)"
+[ -e "$TMP/busy/00.json" ] && { echo "FAIL: seed wrote into a folder in use"; fails=$((fails + 1)); }
+run seed --category longitudinal -n 3 -o "$TMP/sd" --size 32 -j 2
+check "seed --category" 0 out "wrote $TMP/sd: 3 presets, seeds.json, sheet.png" out "00.json  longitudinal"
+for f in 00.json 01.json 02.json seeds.json sheet.png; do
+  [ -s "$TMP/sd/$f" ] || { echo "FAIL: seed did not write $f"; fails=$((fails + 1)); }
+done
+ls "$TMP" | grep -q "sd.tmp-" && { echo "FAIL: seed left its temporary folder"; fails=$((fails + 1)); }
+run render "$TMP/sd/02.json" -o "$TMP/sd_r" --size 32; check "render a seeded preset" 0 out "longitudinal pattern"
+run seed --category longitudinal -n 3 -o "$TMP/sd1" --size 32 -j 1 -q
+check "seed on one thread" 0
+[ -s "$out" ] && { echo "FAIL: seed -q printed"; fails=$((fails + 1)); }
+for f in 00.json 01.json 02.json seeds.json; do
+  cmp -s "$TMP/sd/$f" "$TMP/sd1/$f" || { echo "FAIL: seed $f differs between 2 threads and 1"; fails=$((fails + 1)); }
+done
+run seed --near "$SRC/presets/thesis/table_4_4_spots.json" -n 2 --distance 0.1 -o "$TMP/nested/sdn" --size 32 --json
+check "seed --near --json" 0 out '"mode": "near"'
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/sd/seeds.json" "$out" "$TMP/nested/sdn/00.json" <<'PY' || { echo "FAIL: seeds.json content"; fails=$((fails + 1)); }
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["format"] == "squama-seeds/1" and s["mode"] == "category" and s["category"] == "longitudinal"
+assert [p["preset"] for p in s["presets"]] == ["00.json", "01.json", "02.json"]
+assert all(p["category"] == "longitudinal" and p["nearest"] > 0 and 0 < p["coverage"] < 1 for p in s["presets"])
+assert s["min_distance"] == min(p["nearest"] for p in s["presets"])
+n = json.load(open(sys.argv[2]))
+assert n["category"] == "spots" and n["gene_step"] == 0.1 and len(n["presets"]) == 2
+assert all(p["to_origin"] > 0 for p in n["presets"])
+v = json.load(open(sys.argv[3]))
+assert v["Pattern_Type"] == "spots" and "variation 00" in v["name"] and "distance to the original" in v["notes"]
+PY
+fi
+run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2
+check "seed --from-photo" 0 out "to photo" out "wrote $TMP/sdp:"
+[ -s "$TMP/sdp/00.json" ] && [ -s "$TMP/sdp/sheet.png" ] || { echo "FAIL: seed --from-photo files"; fails=$((fails + 1)); }
+run seed --from-photo "$TMP/none.jpg" --evals 150 -o "$TMP/sdp2"; check "seed --from-photo missing photo" 1 err "cannot open image"
+[ -e "$TMP/sdp2" ] && { echo "FAIL: a failed seed --from-photo wrote its folder"; fails=$((fails + 1)); }
+
 [ "$fails" = 0 ] && echo "all CLI checks passed" || { echo "$fails CLI checks failed"; exit 1; }

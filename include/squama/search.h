@@ -294,6 +294,99 @@ void sq_fit_result_free(SqFitResult *r);
 
 const char *sq_fit_method_name(SqFitMethod m);
 
+/* ---- seeding artists with starting presets (seed.c) ----
+ * Diverse, plausible presets of one category, or variations around a preset. Every
+ * candidate is rendered at a coarse size (the fit's 128) and seen as the fit sees a
+ * candidate: its dorsal band at view scale 1, lit, reduced to features (fitness.h). Two
+ * candidates are as far apart as sq_seed_distance says: the fit's five objectives taken
+ * both ways round, each divided by its typical value between two random presets, averaged
+ * (so two random presets of different categories are about 1 apart, a preset and itself 0).
+ *
+ * sq_seed_category draws a pool of random candidates of the category's genome (colours from
+ * palettes of snake colours rather than the genes' uniform RGB), drops the implausible
+ * ones (render errors; a pattern that changes almost none or almost all of the skin
+ * against the same skin rendered without it, or changes it too little to be seen) and picks n of the rest by farthest-point
+ * sampling in feature space (each pick the candidate farthest from those picked so far;
+ * Gonzalez 1985: within a factor 2 of the largest smallest pairwise distance).
+ *
+ * sq_seed_near moves every gene of the origin's genome by a normal step of standard
+ * deviation `distance` in the gene's [0, 1] range (discrete genes change level when the
+ * step crosses one; colours move in CIELAB, by distance x 40 in lightness and x 25 in a*
+ * and b*, rather than channel by channel), keeping its category, its structure (the automaton, the
+ * reaction-diffusion system and cascade, the pattern layers) and every parameter that is
+ * not a gene, and picks n of a pool of such variations by farthest-point sampling started
+ * from the origin.
+ *
+ * Candidates render in parallel (OpenMP), each on one thread, and every random choice is
+ * made before rendering: the result depends on the seed only, not on the thread count. */
+
+typedef struct SqSeedProgress {
+    const char *stage; /* "render", "select" */
+    int done, total;
+} SqSeedProgress;
+
+typedef struct SqSeedOptions {
+    int n;              /* presets wanted, 1..SQ_SEED_MAX */
+    int pool;           /* candidates drawn per preset wanted (category: 12, near: 4) */
+    uint64_t seed;      /* (1) */
+    int threads;        /* 0: the OpenMP default */
+    int size;           /* render size of the features (128, as the fit's coarse size) */
+    double distance;    /* sq_seed_near: the genes' step, (0, 1] (0.1) */
+    void (*progress)(const SqSeedProgress *p, void *ctx);
+    void *ctx;
+} SqSeedOptions;
+
+enum { SQ_SEED_MAX = 256 };
+
+typedef struct SqSeedCandidate {
+    SqParams params;
+    SqFeatures features;
+    double coverage;    /* share of the texture the pattern changes (against the plain skin) */
+    double contrast;    /* how much: the changed pixels' mean CIEDE2000 from the plain skin */
+    double nearest;     /* feature distance to the nearest other pick (INFINITY when n = 1) */
+    int nearest_index;  /* that pick's index, or -1 */
+    double to_origin;   /* sq_seed_near: feature distance to the origin; NAN otherwise */
+    int source;         /* which one it was: the draw's number (from 0), or the index of
+                           the fit's front member (sq_seed_from_fit) */
+} SqSeedCandidate;
+
+typedef struct SqSeedResult {
+    SqSeedCandidate *picks; /* n of them, in the order picked */
+    int n;
+    SqSeedCandidate *pool;  /* the plausible candidates they were picked from */
+    int npool;
+    int drawn;              /* candidates drawn */
+    int failed;             /* could not be rendered */
+    int implausible;        /* rendered, but dropped as implausible */
+    double min_distance;    /* the smallest feature distance between two picks */
+} SqSeedResult;
+
+SqSeedOptions sq_seed_options_default(void);
+
+/* The feature distance between two candidates (symmetric, 0 for equal features). */
+double sq_seed_distance(const SqFeatures *a, const SqFeatures *b);
+
+/* The same scale for an objectives vector (SQ_OBJ_COUNT values, e.g. a fit's against its
+ * photo): each objective over its typical value, averaged. */
+double sq_seed_objective_distance(const double *obj);
+
+/* A preset's features as the seeding sees it: rendered at size x size, its dorsal band
+ * at view scale 1 (the maps may be NULL, or reused between calls). */
+SqStatus sq_seed_features(const SqParams *p, int size, SqTextures *maps, SqFeatures *f, SqError *err);
+
+/* n diverse, plausible presets of a category. On error nothing is allocated in out. */
+SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
+
+/* n variations around origin (valid; any category), each with its distance to it. */
+SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
+
+/* The first n distinct members of a fit's front (all of them when it has fewer), each with its
+ * distance to the photo (sq_seed_objective_distance of its objectives, in to_origin) and
+ * to the nearest other; coverage and contrast as for sq_seed_category. */
+SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
+
+void sq_seed_result_free(SqSeedResult *r);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,569 @@
+/* squama seed: starting presets for artists: diverse ones of a category, variations around a
+ * preset, or the fitted alternatives for a photo; with a summary and a contact sheet. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <dirent.h>
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+#include "json_util.h"
+#include "sheet.h"
+#include "squama/fitness.h"
+#include "squama/io.h"
+#include "squama/preset.h"
+#include "squama/search.h"
+
+static const char help[] =
+    "usage: squama seed --category C -o DIR [-n N] [--seed S]\n"
+    "       squama seed --near PRESET -o DIR [-n N] [--distance D] [--seed S]\n"
+    "       squama seed --from-photo PHOTO -o DIR [--mask M] [--budget 60s | --evals N]\n"
+    "\n"
+    "Starting presets for an artist to tweak by hand.\n"
+    "\n"
+    "--category C draws a pool of random presets of pattern type C (none, longitudinal,\n"
+    "  transversal, spots, other_simple, complex) over the genes' suggested ranges, with\n"
+    "  colours from palettes of snake colours; drops the implausible ones (a pattern covering\n"
+    "  almost none or almost all of the skin, or hardly differing from the background); and\n"
+    "  picks the N most different from each other: farthest-point sampling on the feature\n"
+    "  distance (the fit's five objectives on a 128-pixel render's dorsal band, each over its\n"
+    "  typical value between random presets, averaged: about 1 between unrelated presets).\n"
+    "--near PRESET makes N variations of PRESET: every gene moved by a normal step of\n"
+    "  standard deviation D of its suggested range (default 0.1; colours in CIELAB), the\n"
+    "  category and structure (automaton, reaction-diffusion system, layers) kept; of 4N\n"
+    "  such variations, the N most different among the nearer half are kept, each with its\n"
+    "  feature distance to PRESET (which grows with D; D itself is a step in the genes).\n"
+    "--from-photo PHOTO fits the generator to the photo (as 'squama fit') and writes the\n"
+    "  fit's Pareto front, best first (at most N of it), each with its distance to the photo.\n"
+    "\n"
+    "DIR (new or empty) receives, all at once when everything is ready:\n"
+    "  NN.json     the presets ('squama render' takes them as they are)\n"
+    "  seeds.json  per preset its category, the feature distance to the nearest other pick\n"
+    "              and to the original (PRESET or PHOTO); how the pool went\n"
+    "  sheet.png   a contact sheet of the presets, labelled\n"
+    "\n"
+    "options:\n"
+    "  -c, --category C     pattern type of the presets\n"
+    "      --near PRESET    variations around this preset\n"
+    "      --from-photo P   the fitted front of this photo\n"
+    "  -o, --output DIR     where the presets go (required; new or empty)\n"
+    "  -n N                 how many presets, 1 to 256 (default 12; --from-photo: the\n"
+    "                       whole front, at most 24)\n"
+    "  -d, --distance D     --near: the genes' step, 0.01 to 1 (default 0.1)\n"
+    "  -s, --seed S         the seed of every random choice (default 1)\n"
+    "      --pool K         candidates drawn per preset (default 12; --near 4)\n"
+    "  -m, --mask MASK      --from-photo: the snake's mask\n"
+    "  -b, --budget TIME    --from-photo: the fit's wall time (default 60s)\n"
+    "      --evals N        --from-photo: an evaluation budget instead (deterministic)\n"
+    "      --size N         the sheet's tiles, 32 to 1024 pixels (default 256)\n"
+    "      --cols C         the sheet's columns (default: about the square root)\n"
+    "  -j, --threads N      threads (default: all cores); the result does not depend on it\n"
+    "  -q, --quiet          no progress and no summary\n"
+    "      --json           the summary (seeds.json) on stdout\n"
+    "  -h, --help           show this help\n";
+
+enum { MODE_CATEGORY = 1, MODE_NEAR, MODE_PHOTO };
+
+static const char *const mode_names[] = {"", "category", "near", "photo"};
+
+typedef struct Progress {
+    int tty, quiet;
+    const char *what;
+} Progress;
+
+static void on_progress(const SqSeedProgress *p, void *ctx)
+{
+    const Progress *x = ctx;
+    if (!x->tty || x->quiet)
+        return;
+    fprintf(stderr, "\r%s: %-6s %4d/%-4d\033[K", x->what, p->stage, p->done, p->total);
+    fflush(stderr);
+}
+
+static void on_fit_progress(const SqFitProgress *p, void *ctx)
+{
+    const Progress *x = ctx;
+    if (!x->tty || x->quiet)
+        return;
+    fprintf(stderr, "\r%s: fit %-7s gen %4d  %6ld evals  %5.0f s  best %.3f %-12s\033[K", x->what, p->stage,
+            p->generation, p->evals, p->elapsed, p->best_score, sq_pattern_type_name(p->category));
+    fflush(stderr);
+}
+
+/* 1 when path does not exist or is an empty folder; 0 with err filled otherwise. */
+static int usable_dir(const char *path, SqError *err)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return errno == ENOENT ? 1 : (sq_error_set(err, SQ_ERR_IO, path, "cannot use the folder: %s", strerror(errno)), 0);
+    if (!S_ISDIR(st.st_mode)) {
+        sq_error_set(err, SQ_ERR_IO, path, "exists and is not a folder");
+        return 0;
+    }
+    DIR *d = opendir(path);
+    if (!d) {
+        sq_error_set(err, SQ_ERR_IO, path, "cannot read the folder: %s", strerror(errno));
+        return 0;
+    }
+    struct dirent *e;
+    int empty = 1;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
+            empty = 0;
+    closedir(d);
+    if (!empty)
+        sq_error_set(err, SQ_ERR_IO, path,
+                     "the output folder is not empty; squama seed writes into a new or empty folder");
+    return empty;
+}
+
+/* The temporary folder beside DIR that everything is written into first, and the names
+ * written there, to clean up after a failure. */
+typedef struct Staging {
+    char dir[4096];
+    int nfiles;
+    char (*files)[32];
+} Staging;
+
+static void staging_clean(Staging *s)
+{
+    char path[4200];
+    for (int i = 0; i < s->nfiles; i++) {
+        snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
+        unlink(path);
+    }
+    if (s->dir[0])
+        rmdir(s->dir);
+    free(s->files);
+}
+
+static SqStatus stage_file(Staging *s, const char *name, const void *data, size_t len, SqError *err)
+{
+    char path[4200];
+    snprintf(path, sizeof path, "%s/%s", s->dir, name);
+    snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
+    return sq_io_write_file(path, data, len, err);
+}
+
+typedef struct Seeding {
+    int mode, category;
+    const char *origin;      /* the preset or photo */
+    const char *origin_name; /* its "name", or file name */
+    uint64_t seed;
+    double distance;
+    const SqFitResult *fit;
+    const SqSeedResult *r;
+} Seeding;
+
+static cJSON *summary(const Seeding *s)
+{
+    const SqSeedResult *r = s->r;
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "format", "squama-seeds/1");
+    cJSON_AddStringToObject(root, "mode", mode_names[s->mode]);
+    cJSON_AddStringToObject(root, "category", sq_pattern_type_name(s->category));
+    if (s->origin)
+        cJSON_AddStringToObject(root, s->mode == MODE_PHOTO ? "photo" : "preset", s->origin);
+    cJSON_AddNumberToObject(root, "seed", (double)s->seed);
+    if (s->mode == MODE_NEAR)
+        cJSON_AddItemToObject(root, "gene_step", sq__json_exact_number(s->distance));
+    cJSON_AddStringToObject(root, "distance",
+                            "feature distance: the fit's five objectives between 128-pixel renders' dorsal "
+                            "bands (view scale 1), both ways round, each over its typical value between two "
+                            "random presets, averaged; about 1 between unrelated presets");
+    if (s->mode == MODE_PHOTO)
+        cJSON_AddStringToObject(root, "to_origin",
+                                "the fit's objectives against the photo (its view scale), on the same scale");
+    cJSON *pool = cJSON_AddObjectToObject(root, "pool");
+    cJSON_AddNumberToObject(pool, "drawn", r->drawn);
+    cJSON_AddNumberToObject(pool, "failed", r->failed);
+    cJSON_AddNumberToObject(pool, "implausible", r->implausible);
+    cJSON_AddNumberToObject(pool, "kept", r->npool);
+    cJSON_AddItemToObject(root, "min_distance", sq__json_exact_number(isfinite(r->min_distance) ? r->min_distance : 0));
+    cJSON *arr = cJSON_AddArrayToObject(root, "presets");
+    for (int i = 0; i < r->n; i++) {
+        const SqSeedCandidate *c = &r->picks[i];
+        char file[32];
+        cJSON *e = cJSON_CreateObject();
+        snprintf(file, sizeof file, "%02d.json", i);
+        cJSON_AddStringToObject(e, "preset", file);
+        cJSON_AddStringToObject(e, "category", sq_pattern_type_name(c->params.Pattern_Type));
+        if (c->nearest_index >= 0) {
+            cJSON_AddItemToObject(e, "nearest", sq__json_exact_number(c->nearest));
+            snprintf(file, sizeof file, "%02d.json", c->nearest_index);
+            cJSON_AddStringToObject(e, "nearest_preset", file);
+        }
+        if (isfinite(c->to_origin))
+            cJSON_AddItemToObject(e, "to_origin", sq__json_exact_number(c->to_origin));
+        if (c->params.Pattern_Type != SQ_PATTERN_NONE) {
+            cJSON_AddItemToObject(e, "coverage", sq__json_exact_number(c->coverage));
+            cJSON_AddItemToObject(e, "contrast", sq__json_exact_number(c->contrast));
+        }
+        if (s->fit) {
+            const SqFitCandidate *f = &s->fit->front[c->source];
+            cJSON_AddNumberToObject(e, "front_index", c->source);
+            cJSON *o = cJSON_AddObjectToObject(e, "objectives");
+            for (int k = 0; k < SQ_OBJ_COUNT; k++)
+                cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(f->obj[k]));
+            cJSON_AddItemToObject(e, "score", sq__json_exact_number(f->score));
+            cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(f->view_scale));
+        }
+        cJSON_AddItemToArray(arr, e);
+    }
+    return root;
+}
+
+/* The preset's name and notes: where it came from. */
+static void preset_info(const Seeding *s, int i, SqPresetInfo *info)
+{
+    const SqSeedCandidate *c = &s->r->picks[i];
+    const char *cat = sq_pattern_type_name(c->params.Pattern_Type);
+    char near[96] = "";
+    if (c->nearest_index >= 0)
+        snprintf(near, sizeof near, "; feature distance to the nearest other pick (%02d) %.3f", c->nearest_index,
+                 c->nearest);
+    switch (s->mode) {
+    case MODE_CATEGORY:
+        snprintf(info->name, sizeof info->name, "seed %s %02d", cat, i);
+        snprintf(info->notes, sizeof info->notes,
+                 "squama seed --category %s --seed %llu: pick %d of %d plausible random presets, by farthest-point "
+                 "sampling in feature space%s",
+                 cat, (unsigned long long)s->seed, i + 1, s->r->npool, near);
+        break;
+    case MODE_NEAR:
+        snprintf(info->name, sizeof info->name, "%.200s, variation %02d", s->origin_name, i);
+        snprintf(info->notes, sizeof info->notes,
+                 "squama seed --near %s --distance %g --seed %llu: a variation (genes moved by normal steps of "
+                 "%g of their ranges); feature distance to the original %.3f%s",
+                 s->origin, s->distance, (unsigned long long)s->seed, s->distance, c->to_origin, near);
+        break;
+    default:
+        snprintf(info->name, sizeof info->name, "fit of %.200s, front %02d", s->origin_name, i);
+        snprintf(info->notes, sizeof info->notes,
+                 "squama seed --from-photo %s --seed %llu: member %d of the fit's Pareto front (best first), view "
+                 "scale %.3f; distance to the photo %.3f%s",
+                 s->origin, (unsigned long long)s->seed, c->source, s->fit->front[c->source].view_scale, c->to_origin,
+                 near);
+        break;
+    }
+}
+
+/* Every file into a temporary folder beside outdir, the sheet last, then the folder renamed
+ * to outdir: either all of it appears or none. */
+static SqStatus write_all(const char *outdir, const Seeding *s, int size, int cols, int threads, int json,
+                          SqError *err)
+{
+    const SqSeedResult *r = s->r;
+    Staging stg = {.files = calloc((size_t)r->n + 2, sizeof *stg.files)};
+    if (!stg.files)
+        return sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+    size_t len = strlen(outdir);
+    while (len > 1 && outdir[len - 1] == '/') /* "out/" -> "out.tmp-..." */
+        len--;
+    /* the parent first: mkdtemp makes one folder only */
+    snprintf(stg.dir, sizeof stg.dir, "%.*s", (int)len, outdir);
+    char *slash = strrchr(stg.dir, '/');
+    if (slash && slash != stg.dir) {
+        *slash = '\0';
+        if (cli_mkdirs(stg.dir) != 0) {
+            SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create the folder: %s", strerror(errno));
+            stg.dir[0] = 0;
+            staging_clean(&stg);
+            return st;
+        }
+    }
+    snprintf(stg.dir, sizeof stg.dir, "%.*s.tmp-XXXXXX", (int)len, outdir);
+    if (!mkdtemp(stg.dir)) {
+        SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create a temporary folder: %s", strerror(errno));
+        stg.dir[0] = 0;
+        staging_clean(&stg);
+        return st;
+    }
+    SqStatus st = SQ_OK;
+    SqPresetInfo *info = malloc(sizeof *info);
+    char(*labels)[64] = malloc(sizeof *labels * (size_t)r->n);
+    const char **lp = malloc(sizeof *lp * (size_t)r->n);
+    SqParams *presets = malloc(sizeof *presets * (size_t)r->n);
+    if (!info || !labels || !lp || !presets)
+        st = sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+    for (int i = 0; i < r->n && st == SQ_OK; i++) {
+        memset(info, 0, sizeof *info);
+        preset_info(s, i, info);
+        char *text = sq_preset_to_json(&r->picks[i].params, info, err);
+        if (!text) {
+            st = err->status;
+            break;
+        }
+        char name[32];
+        snprintf(name, sizeof name, "%02d.json", i);
+        st = stage_file(&stg, name, text, strlen(text), err);
+        free(text);
+        presets[i] = r->picks[i].params;
+        const SqSeedCandidate *c = &r->picks[i];
+        if (s->mode == MODE_CATEGORY)
+            snprintf(labels[i], sizeof labels[i], "%02d  nearest %.2f", i, c->nearest_index >= 0 ? c->nearest : 0);
+        else
+            snprintf(labels[i], sizeof labels[i], "%02d  %s %.2f", i, s->mode == MODE_NEAR ? "from original" : "from photo",
+                     c->to_origin);
+        lp[i] = labels[i];
+    }
+    char *text = NULL;
+    if (st == SQ_OK) {
+        cJSON *root = summary(s);
+        text = sq__json_print(root);
+        cJSON_Delete(root);
+        st = text ? stage_file(&stg, "seeds.json", text, strlen(text), err)
+                  : sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+    }
+    if (st == SQ_OK) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/sheet.png", stg.dir);
+        snprintf(stg.files[stg.nfiles++], sizeof stg.files[0], "sheet.png");
+        SqGenOptions go = sq_gen_options_default(size);
+        go.threads = threads;
+        st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
+    }
+    if (st == SQ_OK) {
+        /* DIR was checked new or empty; a rename over an empty folder replaces it */
+        if (rename(stg.dir, outdir) != 0)
+            st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
+        else
+            stg.nfiles = 0, stg.dir[0] = 0;
+    }
+    if (st == SQ_OK && json)
+        fputs(text, stdout);
+    free(text);
+    free(info);
+    free(labels);
+    free(lp);
+    free(presets);
+    staging_clean(&stg);
+    return st;
+}
+
+int cmd_seed(int argc, char **argv)
+{
+    enum { O_NEAR = 1000, O_PHOTO, O_POOL, O_EVALS, O_SIZE, O_COLS, O_JSON };
+    static const struct option opts[] = {
+        {"category", required_argument, NULL, 'c'}, {"near", required_argument, NULL, O_NEAR},
+        {"from-photo", required_argument, NULL, O_PHOTO}, {"output", required_argument, NULL, 'o'},
+        {"distance", required_argument, NULL, 'd'}, {"seed", required_argument, NULL, 's'},
+        {"pool", required_argument, NULL, O_POOL},  {"mask", required_argument, NULL, 'm'},
+        {"budget", required_argument, NULL, 'b'},   {"evals", required_argument, NULL, O_EVALS},
+        {"size", required_argument, NULL, O_SIZE},  {"cols", required_argument, NULL, O_COLS},
+        {"threads", required_argument, NULL, 'j'},  {"quiet", no_argument, NULL, 'q'},
+        {"json", no_argument, NULL, O_JSON},        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0}};
+    const char *outdir = NULL, *origin = NULL, *mask_path = NULL;
+    int mode = 0, category = -1, n = 0, size = 256, cols = 0, json = 0, quiet = 0, distance_given = 0;
+    double budget = 0;
+    long max_evals = 0;
+    SqSeedOptions so = sq_seed_options_default();
+    int c;
+    optind = 0;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "hc:o:n:d:s:m:b:j:q", opts, NULL)) != -1) {
+        char *end;
+        long v;
+        double dv;
+        int m = 0;
+        switch (c) {
+        case 'c':
+            m = MODE_CATEGORY;
+            for (int k = 0; k < SQ_PATTERN_COUNT; k++)
+                if (strcmp(optarg, sq_pattern_type_name(k)) == 0)
+                    category = k;
+            if (category < 0)
+                return cli_usage("seed",
+                                 "--category is one of none, longitudinal, transversal, spots, other_simple, "
+                                 "complex; got '%s'",
+                                 optarg);
+            break;
+        case O_NEAR: m = MODE_NEAR; origin = optarg; break;
+        case O_PHOTO: m = MODE_PHOTO; origin = optarg; break;
+        case 'o': outdir = optarg; break;
+        case 'n':
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 1 || v > SQ_SEED_MAX)
+                return cli_usage("seed", "-n must be 1 to %d, got '%s'", SQ_SEED_MAX, optarg);
+            n = (int)v;
+            break;
+        case 'd':
+            dv = strtod(optarg, &end);
+            if (*end || end == optarg || !(dv >= 0.01 && dv <= 1))
+                return cli_usage("seed", "--distance must be 0.01 to 1, got '%s'", optarg);
+            so.distance = dv;
+            distance_given = 1;
+            break;
+        case 's':
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 0 || v > 2147483647L)
+                return cli_usage("seed", "--seed must be 0 to 2147483647, got '%s'", optarg);
+            so.seed = (uint64_t)v;
+            break;
+        case O_POOL:
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 1 || v > 64)
+                return cli_usage("seed", "--pool must be 1 to 64, got '%s'", optarg);
+            so.pool = (int)v;
+            break;
+        case 'm': mask_path = optarg; break;
+        case 'b':
+            budget = cli_parse_time(optarg);
+            if (budget <= 0)
+                return cli_usage("seed", "--budget takes a time such as 60s, 90 or 2m, got '%s'", optarg);
+            break;
+        case O_EVALS:
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 100 || v > 100000000)
+                return cli_usage("seed", "--evals must be 100 to 100000000, got '%s'", optarg);
+            max_evals = v;
+            break;
+        case O_SIZE:
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 32 || v > 1024)
+                return cli_usage("seed", "--size must be 32 to 1024, got '%s'", optarg);
+            size = (int)v;
+            break;
+        case O_COLS:
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 1 || v > 64)
+                return cli_usage("seed", "--cols must be 1 to 64, got '%s'", optarg);
+            cols = (int)v;
+            break;
+        case 'j':
+            v = strtol(optarg, &end, 10);
+            if (*end || end == optarg || v < 1 || v > 1024)
+                return cli_usage("seed", "--threads must be 1 to 1024, got '%s'", optarg);
+            so.threads = (int)v;
+            break;
+        case 'q': quiet = 1; break;
+        case O_JSON: json = 1; break;
+        case 'h': fputs(help, stdout); return CLI_OK;
+        default:
+            if (optopt && strchr("conjdsmbj", optopt))
+                return cli_usage("seed", "-%c needs a value", optopt);
+            return cli_usage("seed", "unknown option '%s'", argv[optind - 1]);
+        }
+        if (m) {
+            if (mode && mode != m)
+                return cli_usage("seed", "--category, --near and --from-photo exclude each other");
+            mode = m;
+        }
+    }
+    if (optind < argc)
+        return cli_usage("seed", "unexpected argument '%s'", argv[optind]);
+    if (!mode)
+        return cli_usage("seed", "say what to start from: --category C, --near PRESET or --from-photo PHOTO");
+    if (!outdir)
+        return cli_usage("seed", "say where the presets go with -o DIR");
+    if (distance_given && mode != MODE_NEAR)
+        return cli_usage("seed", "--distance is for --near");
+    if ((mask_path || budget > 0 || max_evals > 0) && mode != MODE_PHOTO)
+        return cli_usage("seed", "--mask, --budget and --evals are for --from-photo");
+    if (so.pool && mode == MODE_PHOTO)
+        return cli_usage("seed", "--pool is for --category and --near");
+    so.n = n ? n : mode == MODE_PHOTO ? 24 : 12;
+
+    SqError err;
+    if (!usable_dir(outdir, &err))
+        return cli_fail(&err);
+    Progress px = {.tty = isatty(STDERR_FILENO), .quiet = quiet || json};
+    so.progress = on_progress;
+    so.ctx = &px;
+    Seeding s = {.mode = mode, .category = category, .origin = origin, .seed = so.seed, .distance = so.distance};
+    SqSeedResult r = {0};
+    SqFitResult fit = {0};
+    SqParams *orig = NULL;
+    SqPresetInfo *oinfo = NULL;
+    char oname[256];
+    int rc = CLI_OK;
+    if (origin) {
+        const char *base = strrchr(origin, '/');
+        snprintf(oname, sizeof oname, "%s", base ? base + 1 : origin);
+        s.origin_name = oname;
+    }
+    if (mode == MODE_CATEGORY) {
+        px.what = sq_pattern_type_name(category);
+        if (sq_seed_category(category, &so, &r, &err) != SQ_OK)
+            rc = cli_fail(&err);
+    } else if (mode == MODE_NEAR) {
+        orig = malloc(sizeof *orig);
+        oinfo = calloc(1, sizeof *oinfo);
+        if (!orig || !oinfo) {
+            sq_error_set(&err, SQ_ERR_NOMEM, origin, "out of memory");
+            rc = cli_fail(&err);
+        } else if (sq_preset_load(origin, orig, oinfo, &err) != SQ_OK) {
+            rc = cli_fail(&err);
+        } else {
+            if (oinfo->name[0])
+                s.origin_name = oinfo->name;
+            s.category = orig->Pattern_Type;
+            px.what = s.origin_name;
+            if (sq_seed_near(orig, &so, &r, &err) != SQ_OK)
+                rc = cli_fail(&err);
+        }
+    } else {
+        SqImage photo = {0}, mask = {0};
+        SqPrepared prep = {0};
+        SqFeatures target;
+        SqPrepOptions po = sq_fit_prep_options_default();
+        px.what = s.origin_name;
+        if (cli_load_photo(origin, mask_path, &photo, &mask, &err) != 0 ||
+            sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK ||
+            sq_fit_features(&prep.strip, &prep.valid, &target, &err) != SQ_OK) {
+            rc = cli_fail(&err);
+        } else {
+            SqFitOptions fo = sq_fit_options_default();
+            fo.seed = so.seed;
+            fo.threads = so.threads;
+            fo.budget = max_evals > 0 && budget == 0 ? 0 : budget > 0 ? budget : 60;
+            fo.max_evals = max_evals;
+            fo.front_max = so.n > 24 ? so.n : 24;
+            fo.progress = on_fit_progress;
+            fo.ctx = &px;
+            if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)
+                rc = cli_fail(&err);
+            else {
+                s.fit = &fit;
+                s.category = fit.best.params.Pattern_Type;
+            }
+        }
+        sq_fit_prepared_free(&prep);
+        sq_image_free(&photo);
+        sq_image_free(&mask);
+    }
+    if (px.tty && !px.quiet)
+        fputs("\r\033[K", stderr);
+    if (rc == CLI_OK) {
+        s.r = &r;
+        if (write_all(outdir, &s, size, cols, so.threads, json, &err) != SQ_OK)
+            rc = cli_fail(&err);
+    }
+    if (rc == CLI_OK && !quiet && !json) {
+        printf("  preset   category      nearest  %s\n", mode == MODE_CATEGORY ? "" : mode == MODE_NEAR ? "to original" : "to photo");
+        for (int i = 0; i < r.n; i++) {
+            const SqSeedCandidate *p = &r.picks[i];
+            printf("  %02d.json  %-12s  %7.3f", i, sq_pattern_type_name(p->params.Pattern_Type),
+                   p->nearest_index >= 0 ? p->nearest : 0.0);
+            if (isfinite(p->to_origin))
+                printf("  %7.3f", p->to_origin);
+            printf("\n");
+        }
+        printf("wrote %s: %d preset%s, seeds.json, sheet.png (%d drawn, %d implausible, smallest distance %.3f)\n",
+               outdir, r.n, r.n == 1 ? "" : "s", r.drawn, r.implausible, isfinite(r.min_distance) ? r.min_distance : 0);
+    }
+    sq_seed_result_free(&r);
+    sq_fit_result_free(&fit);
+    free(orig);
+    free(oinfo);
+    return rc;
+}
