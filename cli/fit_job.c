@@ -29,13 +29,6 @@ typedef struct Ctx {
     char checkpoint_error[SQ_ERROR_WHAT_MAX + SQ_ERROR_WHERE_MAX + 8];
 } Ctx;
 
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Writes a candidate as a preset file (atomic). */
 static SqStatus write_preset(const char *path, const SqFitCandidate *c, const char *name, SqError *err)
 {
@@ -97,7 +90,7 @@ static void write_checkpoint(Ctx *x, const SqFitProgress *p)
 static void progress(const SqFitProgress *p, void *ctx)
 {
     Ctx *x = ctx;
-    double t = now_s();
+    double t = cli_now_s();
     if (t - x->last_checkpoint > 5 || strcmp(p->stage, "screen") == 0) {
         write_checkpoint(x, p);
         x->last_checkpoint = t;
@@ -400,7 +393,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot create the output folder: %s", strerror(errno));
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
-    double t0 = now_s();
+    double t0 = cli_now_s();
     SqImage photo = {0}, mask = {0};
     SqPrepared prep = {0};
     SqFeatures target;
@@ -429,7 +422,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         if (x.tty && !x.quiet && !x.json)
             fputs("\n", stderr);
     }
-    double total = now_s() - t0;
+    double total = cli_now_s() - t0;
     if (st == SQ_OK)
         st = write_outputs(job->outdir, job->photo, job->mask, &prep, &target, &fo, &res, job->size, total, err);
     if (st == SQ_OK) {

@@ -14,6 +14,7 @@ static const CliCommand commands[] = {
     {"prepare", "find the snake in a photo and straighten its body into a strip", cmd_prepare},
     {"score", "score presets against a photo: objectives and Pareto rank", cmd_score},
     {"fit", "fit the generator to a photo: best preset, front, textures, report", cmd_fit},
+    {"batch", "fit every photo of a manifest into a browsable catalogue (cores, MPI, Slurm)", cmd_batch},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
