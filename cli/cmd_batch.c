@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <cjson/cJSON.h>
 #include <omp.h>
 
 #include "batch.h"
@@ -136,18 +137,30 @@ static void summary(const Batch *b, double seconds, int resumed)
     BatchConfusion c;
     batch_confusion(b->rows, b->results, b->nrows, &c);
     if (b->json) {
-        printf("{\"rows\": %d, \"ok\": %d, \"errors\": %d, \"pending\": %d, \"fitted_now\": %d, \"resumed\": %d, "
-               "\"seconds\": %.1f, \"rows_per_minute\": %.3f, \"correct\": %d, \"with_expected\": %d, "
-               "\"catalogue\": \"%s/catalogue.csv\", \"index\": \"%s/index.html\", \"confusion\": {",
-               b->nrows, ok, failed, pending, b->fitted_now, resumed, seconds,
-               seconds > 0 ? 60.0 * b->fitted_now / seconds : 0, c.correct, c.total, b->outdir, b->outdir);
-        for (int e = 0; e < SQ_PATTERN_COUNT; e++) {
-            printf("%s\"%s\": [", e ? ", " : "", sq_pattern_type_name(e));
-            for (int f = 0; f < SQ_PATTERN_COUNT; f++)
-                printf("%s%d", f ? ", " : "", c.m[e][f]);
-            printf("]");
-        }
-        printf("}}\n");
+        char path[4200];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "rows", b->nrows);
+        cJSON_AddNumberToObject(o, "ok", ok);
+        cJSON_AddNumberToObject(o, "errors", failed);
+        cJSON_AddNumberToObject(o, "pending", pending);
+        cJSON_AddNumberToObject(o, "fitted_now", b->fitted_now);
+        cJSON_AddNumberToObject(o, "resumed", resumed);
+        cJSON_AddNumberToObject(o, "seconds", round(seconds * 10) / 10);
+        cJSON_AddNumberToObject(o, "rows_per_minute", seconds > 0 ? round(6e4 * b->fitted_now / seconds) / 1e3 : 0);
+        cJSON_AddNumberToObject(o, "correct", c.correct);
+        cJSON_AddNumberToObject(o, "with_expected", c.total);
+        snprintf(path, sizeof path, "%s/catalogue.csv", b->outdir);
+        cJSON_AddStringToObject(o, "catalogue", path);
+        snprintf(path, sizeof path, "%s/index.html", b->outdir);
+        cJSON_AddStringToObject(o, "index", path);
+        cJSON *cm = cJSON_AddObjectToObject(o, "confusion");
+        for (int e = 0; e < SQ_PATTERN_COUNT; e++)
+            cJSON_AddItemToObject(cm, sq_pattern_type_name(e), cJSON_CreateIntArray(c.m[e], SQ_PATTERN_COUNT));
+        char *text = cJSON_PrintUnformatted(o);
+        cJSON_Delete(o);
+        if (text)
+            printf("%s\n", text);
+        free(text);
         return;
     }
     if (b->quiet)

@@ -72,7 +72,7 @@ if [ "$PART" = local ]; then
     'Slash,photos/bands.jpg,../up,,,' \
     'Odd,photos/bands.jpg,odd,zigzag,,' >"$TMP/m.csv"
   run batch "$TMP/m.csv" -o "$TMP/b" "${FIT[@]}" --json
-  check "batch with bad rows" 0 out '"rows": 9' out '"ok": 2' out '"errors": 7'
+  check "batch with bad rows" 0 out '"rows":9' out '"ok":2' out '"errors":7'
   [ "$(catalogue_ids "$TMP/b" ok)" = "bands stripes" ] || fail "ok rows: $(catalogue_ids "$TMP/b" ok)"
   python3 - "$TMP/b" <<'PY' || fail "catalogue content"
 import csv, os, sys
@@ -110,7 +110,7 @@ PY
   mv "$TMP/b/stripes" "$TMP/b/.tmp-stripes"
   touch -d '2001-01-01' "$TMP/b/bands/best.json"
   run batch "$TMP/m.csv" -o "$TMP/b" "${FIT[@]}" --json
-  check "batch resumed" 0 out '"fitted_now": 4' out '"resumed": 1'
+  check "batch resumed" 0 out '"fitted_now":4' out '"resumed":1'
   grep -q '"id":"stripes","line":3,"status":"ok".*"resumed":false' "$out" || fail "stripes was not fitted again"
   grep -q '"id":"bands"' "$out" && grep '"id":"bands"' "$out" | grep -q '"resumed":false' && fail "bands was fitted again"
   [ "$(stat -c %Y "$TMP/b/bands/best.json")" -lt 1000000000 ] || fail "bands/best.json was rewritten"
@@ -148,7 +148,7 @@ if [ "$PART" = mpi ]; then
   printf 'id,photo,expected\nbands,photos/bands.jpg,transversal\nstripes,photos/stripes.jpg,longitudinal\nbands2,photos/bands.jpg,transversal\n' >"$TMP/m.csv"
   mpirun --oversubscribe -np 2 "$SQ" batch "$TMP/m.csv" -o "$TMP/mpi" "${FIT[@]}" --json >"$out" 2>"$err"
   echo $? >"$TMP/rc"
-  check "mpirun -np 2 squama batch" 0 out '"fitted_now": 3'
+  check "mpirun -np 2 squama batch" 0 out '"fitted_now":3'
   for id in bands stripes bands2; do
     [ "$(grep -c "\"id\":\"$id\"" "$out")" = 1 ] || fail "$id was reported $(grep -c "\"id\":\"$id\"" "$out") times"
   done
