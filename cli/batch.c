@@ -160,7 +160,7 @@ int batch_load_done(const char *dir, BatchDone *d)
     return ok;
 }
 
-int batch_read_done(const Batch *b, int i, BatchResult *out)
+int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out)
 {
     const CliManifestRow *row = &b->rows[i];
     char dir[4096];
@@ -171,7 +171,7 @@ int batch_read_done(const Batch *b, int i, BatchResult *out)
     int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 &&
              strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
              strcmp(d->mask, row->mask ? row->mask : "") == 0 &&
-             d->r.status == BATCH_OK;
+             (d->r.status == BATCH_OK || errors_too);
     if (ok) {
         *out = d->r;
         out->row = i;

@@ -63,8 +63,9 @@ int batch_parse_done(const char *text, size_t len, BatchDone *d);
 int batch_load_done(const char *dir, BatchDone *d);
 
 /* Reads DIR/<id>/done.json of row i: 1 when it holds a fit of the same photo and mask
- * (*out filled, resumed set), 0 otherwise (missing, broken, a failure, other inputs). */
-int batch_read_done(const Batch *b, int i, BatchResult *out);
+ * (*out filled, resumed set), or with errors_too a failure of them; 0 otherwise (missing,
+ * broken, other inputs). */
+int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out);
 
 /* The progress line of a finished row (a JSON line with --json); the caller holds the
  * lock or is alone. */
@@ -92,7 +93,8 @@ typedef struct BatchConfusion {
 void batch_confusion(const CliManifestRow *rows, const BatchResult *res, int n, BatchConfusion *c);
 
 /* MPI (batch_mpi.c; without MPI these say no). */
-int batch_mpi_launched(void);      /* 1 when started by an MPI launcher and built with MPI */
+int batch_mpi_launched(void);      /* 1 when started by an MPI launcher and built with MPI;
+                                      -1 when started as several ranks but built without */
 int batch_mpi_init(int *rank, int *size, int *local_size);  /* 0, or -1 (message printed) */
 void batch_mpi_finalize(void);
 /* Rank 0 hands the pending rows of this run out one at a time (fitting too, on one thread)

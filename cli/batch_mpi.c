@@ -139,6 +139,13 @@ void batch_mpi_run(Batch *b, int rank, int size, const int *pending, int npendin
 
 int batch_mpi_launched(void)
 {
+    /* several copies of a program without MPI would all fit every row into one DIR */
+    static const char *const vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"};
+    for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++) {
+        const char *v = getenv(vars[i]);
+        if (v && strtol(v, NULL, 10) > 1)
+            return -1;
+    }
     return 0;
 }
 

@@ -403,7 +403,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
             if (m.rows[i].error) {
                 r->status = BATCH_ERROR;
                 snprintf(r->error, sizeof r->error, "%s (%s:%d)", m.rows[i].error, manifest, m.rows[i].line);
-            } else if (batch_read_done(&b, i, r)) {
+            } else if (batch_read_done(&b, i, !b.mine[i], r)) { /* another shard's failures stay listed */
                 resumed += b.mine[i];
             } else if (b.mine[i]) {
                 pending[npending++] = i;
@@ -435,7 +435,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
         /* the rows other shards finished meanwhile */
         for (int i = 0; i < m.nrows; i++)
             if (!b.mine[i] && b.results[i].status == BATCH_PENDING)
-                batch_read_done(&b, i, &b.results[i]);
+                batch_read_done(&b, i, 1, &b.results[i]);
         if (batch_write_catalogue(b.outdir, b.rows, b.results, b.nrows, &err) != SQ_OK)
             rc = cli_fail(&err);
         else if (b.write_failed)
@@ -454,6 +454,11 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
 int cmd_batch(int argc, char **argv)
 {
     int rank = 0, size = 1, local = 1, mpi = batch_mpi_launched();
+    if (mpi < 0) {
+        fprintf(stderr, "squama: this squama was built without MPI, so its copies under mpirun would all fit "
+                        "every row: run it alone (--jobs J for more rows at once) or build with -DSQUAMA_MPI=ON\n");
+        return CLI_FAIL;
+    }
     if (mpi && batch_mpi_init(&rank, &size, &local) != 0)
         return CLI_FAIL;
     int saved[2] = {-1, -1};

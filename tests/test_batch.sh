@@ -122,22 +122,25 @@ PY
 fi
 
 if [ "$PART" = shard ]; then
-  printf 'id,photo,expected\nbands,photos/bands.jpg,transversal\nstripes,photos/stripes.jpg,longitudinal\n' >"$TMP/m.csv"
+  printf 'id,photo,expected\nbands,photos/bands.jpg,transversal\nstripes,photos/stripes.jpg,longitudinal\ngone,photos/gone.jpg,none\n' >"$TMP/m.csv"
   run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}" --shard 0/2 -q; check "shard 0/2" 0
   SLURM_ARRAY_TASK_ID=5 SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s1" "${FIT[@]}"
   check "shard 1/2 from Slurm's variables" 0 err "1 rows in this shard: 0 done before, 1 to fit"
-  [ "$(ls "$TMP/s0" | grep -v '\.' | tr '\n' ' ')" = "bands " ] || fail "shard 0 fitted: $(ls "$TMP/s0")"
+  [ "$(ls "$TMP/s0" | grep -v '\.' | tr '\n' ' ')" = "bands gone " ] || fail "shard 0 fitted: $(ls "$TMP/s0")"
   [ "$(ls "$TMP/s1" | grep -v '\.' | tr '\n' ' ')" = "stripes " ] || fail "shard 1 fitted: $(ls "$TMP/s1")"
   SLURM_ARRAY_TASK_ID=9 SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s9"
   check "Slurm task outside the array" 2 err "SLURM_ARRAY_TASK_ID 9"
-  run batch --merge "$TMP/s0" "$TMP/s1" -o "$TMP/merged"; check "merge two shards" 0 out "2 rows: 2 ok, 0 failed"
+  run batch --merge "$TMP/s0" "$TMP/s1" -o "$TMP/merged"; check "merge two shards" 0 out "3 rows: 2 ok, 1 failed"
   [ "$(catalogue_ids "$TMP/merged" ok)" = "bands stripes" ] || fail "merged: $(catalogue_ids "$TMP/merged")"
+  [ "$(catalogue_ids "$TMP/merged" error)" = "gone" ] || fail "merged failures: $(catalogue_ids "$TMP/merged" error)"
   [ -L "$TMP/merged/bands" ] && [ -s "$TMP/merged/stripes/thumb_preview.png" ] || fail "merged rows are not linked"
   grep -q "bands/thumb_photo.png" "$TMP/merged/index.html" || fail "merged index.html lacks the thumbnails"
-  # shards sharing one folder: the plain command then only writes the whole catalogue
+  # shards sharing one folder: each lists the other's rows, failures included
   cp -r "$TMP/s1/stripes" "$TMP/s0/"
-  run batch --merge "$TMP/s0" -o "$TMP/s0"; check "merge in place" 0 out "2 rows: 2 ok"
-  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}"; check "whole catalogue after shards" 0 err "2 done before, 0 to fit"
+  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}" --shard 1/2; check "a shard in a shared folder" 0 err "1 done before, 0 to fit"
+  [ "$(catalogue_ids "$TMP/s0")" = "bands gone stripes" ] || fail "shared folder: $(catalogue_ids "$TMP/s0")"
+  run batch --merge "$TMP/s0" -o "$TMP/s0"; check "merge in place" 0 out "3 rows: 2 ok, 1 failed"
+  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}"; check "whole catalogue after shards" 0 err "2 done before, 1 to fit"
   [ "$(catalogue_ids "$TMP/s0" ok)" = "bands stripes" ] || fail "shared folder: $(catalogue_ids "$TMP/s0")"
   run batch --merge "$TMP/nowhere" -o "$TMP/m2"; check "merge a missing folder" 1 err "($TMP/nowhere)"
 fi
