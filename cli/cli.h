@@ -2,6 +2,8 @@
 #ifndef SQUAMA_CLI_H
 #define SQUAMA_CLI_H
 
+#include <stddef.h>
+
 #include "squama/error.h"
 #include "squama/image.h"
 
@@ -20,9 +22,21 @@ int cmd_prepare(int argc, char **argv);
 int cmd_score(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
 int cmd_seed(int argc, char **argv);
+int cmd_batch(int argc, char **argv);
 
 /* mkdir -p; 0 or -1 with errno. */
 int cli_mkdirs(const char *path);
+
+/* Seconds on the monotonic clock. */
+double cli_now_s(void);
+
+/* snprintf into a path buffer: 0, or -1 (errno ENAMETOOLONG, buf emptied) when it does
+ * not fit. */
+int cli_pathf(char *buf, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* rm -rf (symbolic links removed, never followed); 0 (also when path is missing) or -1
+ * with errno. */
+int cli_remove_tree(const char *path);
 
 /* Reads a photo and, when mask_path is set, its mask (white or opaque on the snake, the
  * photo's size) into a 1-channel image; 0, or -1 with err filled. */

@@ -14,12 +14,9 @@
 #include <cjson/cJSON.h>
 
 #include "cli.h"
-#include "fit_report.h"
-#include "json_util.h"
-#include "squama/fitness.h"
+#include "fit_job.h"
 #include "squama/io.h"
 #include "squama/preset.h"
-#include "squama/search.h"
 
 static const char help[] =
     "usage: squama fit PHOTO -o DIR [--mask MASK] [--budget 60s] [--seed N] [options]\n"
@@ -72,117 +69,6 @@ static void on_sigint(int sig)
     interrupted = 1;
     stop_flag = 1;
     signal(SIGINT, SIG_DFL); /* a second Ctrl-C ends the program */
-}
-
-typedef struct Ctx {
-    const char *outdir;
-    int quiet, json, tty;
-    double last_checkpoint, last_draw, budget;
-    long max_evals;
-    double offset_s;  /* time spent before a resume */
-    char checkpoint_error[SQ_ERROR_WHAT_MAX + SQ_ERROR_WHERE_MAX + 8];
-} Ctx;
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* Writes a candidate as a preset file (atomic). */
-static SqStatus write_preset(const char *path, const SqFitCandidate *c, const char *name, SqError *err)
-{
-    SqPresetInfo info = {0};
-    snprintf(info.name, sizeof info.name, "%s", name);
-    snprintf(info.notes, sizeof info.notes,
-             "fitted by squama fit; view scale %.3f (body circumferences per texture tile)",
-             c->view_scale);
-    char *text = sq_preset_to_json(&c->params, &info, err);
-    if (!text)
-        return err ? err->status : SQ_ERR_INTERNAL;
-    SqStatus st = sq_io_write_file(path, text, strlen(text), err);
-    free(text);
-    return st;
-}
-
-static cJSON *objectives_json(const double *obj)
-{
-    cJSON *o = cJSON_CreateObject();
-    for (int k = 0; k < SQ_OBJ_COUNT; k++)
-        cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(obj[k]));
-    return o;
-}
-
-/* DIR/checkpoint: the front so far as presets plus an index with view scales and the time
- * spent; every file atomic, the index last. */
-static void write_checkpoint(Ctx *x, const SqFitProgress *p)
-{
-    char path[4096];
-    snprintf(path, sizeof path, "%s/checkpoint", x->outdir);
-    if (cli_mkdirs(path) != 0)
-        return;
-    SqError err;
-    cJSON *root = cJSON_CreateObject(), *arr = cJSON_CreateArray();
-    cJSON_AddStringToObject(root, "format", "squama-checkpoint/1");
-    cJSON_AddNumberToObject(root, "seconds", p->elapsed + x->offset_s);
-    cJSON_AddNumberToObject(root, "evaluations", (double)p->evals);
-    for (int i = 0; i < p->nfront; i++) {
-        snprintf(path, sizeof path, "%s/checkpoint/%02d.json", x->outdir, i);
-        if (write_preset(path, &p->front[i], "checkpoint", &err) != SQ_OK) {
-            snprintf(x->checkpoint_error, sizeof x->checkpoint_error, "%s (%s)", err.what, err.where);
-            continue;
-        }
-        cJSON *e = cJSON_CreateObject();
-        snprintf(path, sizeof path, "%02d.json", i);
-        cJSON_AddStringToObject(e, "preset", path);
-        cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(p->front[i].view_scale));
-        cJSON_AddItemToArray(arr, e);
-    }
-    cJSON_AddItemToObject(root, "front", arr);
-    char *text = sq__json_print(root);
-    cJSON_Delete(root);
-    snprintf(path, sizeof path, "%s/checkpoint/checkpoint.json", x->outdir);
-    if (text && sq_io_write_file(path, text, strlen(text), &err) != SQ_OK)
-        snprintf(x->checkpoint_error, sizeof x->checkpoint_error, "%s (%s)", err.what, err.where);
-    free(text);
-}
-
-static void progress(const SqFitProgress *p, void *ctx)
-{
-    Ctx *x = ctx;
-    double t = now_s();
-    if (t - x->last_checkpoint > 5 || strcmp(p->stage, "screen") == 0) {
-        write_checkpoint(x, p);
-        x->last_checkpoint = t;
-    }
-    double rate = p->elapsed > 0 ? p->evals / p->elapsed : 0;
-    if (x->json) {
-        printf("{\"stage\": \"%s\", \"generation\": %d, \"evaluations\": %ld, \"seconds\": %.2f, "
-               "\"evaluations_per_s\": %.1f, \"best_score\": %.4f, \"category\": \"%s\"}\n",
-               p->stage, p->generation, p->evals, p->elapsed, rate, p->best_score,
-               sq_fit_kind_name(p->category));
-        fflush(stdout);
-        return;
-    }
-    if (x->quiet || !x->tty || (t - x->last_draw < 0.2 && strcmp(p->stage, "evolve") == 0))
-        return;
-    x->last_draw = t;
-    double frac = x->budget > 0 ? p->elapsed / x->budget
-                  : x->max_evals > 0 ? (double)p->evals / (double)x->max_evals : 0;
-    frac = frac < 0 ? 0 : frac > 1 ? 1 : frac;
-    char bar[21];
-    int fill = (int)(frac * 20 + 0.5);
-    for (int i = 0; i < 20; i++)
-        bar[i] = i < fill ? '#' : '.';
-    bar[20] = 0;
-    char left[32] = "";
-    if (x->budget > 0)
-        snprintf(left, sizeof left, "%3.0fs left", fmax(0, x->budget - p->elapsed));
-    fprintf(stderr, "\r[%s] %-7s gen %4d  %6ld evals %5.0f/s  best %.3f (pal %.2f shape %.2f along %.2f) %-12s %s\033[K",
-            bar, p->stage, p->generation, p->evals, rate, p->best_score, p->best[SQ_OBJ_PALETTE],
-            p->best[SQ_OBJ_SHAPE], p->best[SQ_OBJ_ALONG], sq_fit_kind_name(p->category), left);
-    fflush(stderr);
 }
 
 /* Loads DIR/checkpoint into seed candidates. */
@@ -242,274 +128,45 @@ static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, doub
     return 0;
 }
 
-static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
-                              const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
-                              const SqFitResult *r, int size, double total_s, SqError *err)
-{
-    char path[4096];
-    /* the front and the best preset */
-    snprintf(path, sizeof path, "%s/front", outdir);
-    if (cli_mkdirs(path) != 0)
-        return sq_error_set(err, SQ_ERR_IO, path, "cannot create the folder: %s", strerror(errno));
-    for (int i = 0; i < r->nfront; i++) {
-        snprintf(path, sizeof path, "%s/front/%02d.json", outdir, i);
-        char name[64];
-        snprintf(name, sizeof name, "front %d of the fit", i);
-        SqStatus st = write_preset(path, &r->front[i], name, err);
-        if (st != SQ_OK)
-            return st;
-    }
-    snprintf(path, sizeof path, "%s/best.json", outdir);
-    const char *base = strrchr(photo_path, '/');
-    char name[256];
-    snprintf(name, sizeof name, "fit of %s", base ? base + 1 : photo_path);
-    SqStatus st = write_preset(path, &r->best, name, err);
-    if (st != SQ_OK)
-        return st;
-
-    /* the maps, the preview, the prepared photo and the fitted strip */
-    SqGenOptions go = sq_gen_options_default(size);
-    SqTextures tex;
-    st = sq_gen_render(&r->best.params, &go, &tex, err);
-    if (st != SQ_OK)
-        return st;
-    struct { const char *name; const SqImage *img; int bits; } maps[] = {
-        {"basecolor", &tex.basecolor, 8}, {"height", &tex.height, 16},
-        {"roughness", &tex.roughness, 8}, {"normal", &tex.normal, 8}};
-    for (size_t i = 0; i < sizeof maps / sizeof maps[0] && st == SQ_OK; i++) {
-        snprintf(path, sizeof path, "%s/%s.png", outdir, maps[i].name);
-        SqWriteOptions wo = {.bits = maps[i].bits};
-        st = sq_io_write_image(path, maps[i].img, &wo, err);
-    }
-    SqImage strip = {0};
-    if (st == SQ_OK)
-        st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, r->best.view_scale, fo->band_centre,
-                                    prep->strip.height, &strip, err);
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/fitted_strip.png", outdir);
-        st = sq_io_write_image(path, &strip, NULL, err);
-    }
-    sq_image_free(&strip);
-    sq_gen_textures_free(&tex);
-    if (st == SQ_OK) {
-        SqPhotoOptions po = sq_fit_photo_options_default();
-        po.width = 1024;
-        po.height = 640;
-        po.preview = 1;
-        po.view_scale = 1.5;
-        po.texture_size = 512;
-        SqImage photo, mask;
-        st = sq_fit_synth_photo(&r->best.params, &po, &photo, &mask, NULL, err);
-        if (st == SQ_OK) {
-            snprintf(path, sizeof path, "%s/preview.png", outdir);
-            st = sq_io_write_image(path, &photo, NULL, err);
-            sq_image_free(&photo);
-            sq_image_free(&mask);
-        }
-    }
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/photo.jpg", outdir);
-        st = sq_io_write_image(path, &prep->photo, NULL, err);
-    }
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/mask.png", outdir);
-        st = sq_io_write_image(path, &prep->mask, NULL, err);
-    }
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/strip.png", outdir);
-        st = sq_io_write_image(path, &prep->strip, NULL, err);
-    }
-    if (st != SQ_OK)
-        return st;
-
-    /* fit.json */
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddStringToObject(root, "format", "squama-fit/1");
-    cJSON_AddStringToObject(root, "best", "best.json");
-    cJSON *in = cJSON_AddObjectToObject(root, "inputs");
-    cJSON_AddStringToObject(in, "photo", photo_path);
-    if (mask_path)
-        cJSON_AddStringToObject(in, "mask", mask_path);
-    cJSON_AddStringToObject(in, "mask_source", prep->mask_source == SQ_MASK_GIVEN ? "given"
-                                               : prep->mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
-    cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
-    cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
-    cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
-    cJSON *se = cJSON_AddObjectToObject(root, "search");
-    cJSON_AddStringToObject(se, "method", sq_fit_method_name(fo->method));
-    cJSON_AddNumberToObject(se, "seed", (double)fo->seed);
-    cJSON_AddNumberToObject(se, "budget_s", fo->budget);
-    cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
-    cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
-    cJSON_AddNumberToObject(se, "evaluations_per_s", total_s > 0 ? r->evals / total_s : 0);
-    cJSON_AddBoolToObject(se, "stopped_early", r->stopped);
-    cJSON *ti = cJSON_AddObjectToObject(se, "seconds");
-    static const char *const stages[SQ_FIT_STAGES] = {"screen", "evolve", "rescore", "polish"};
-    for (int i = 0; i < SQ_FIT_STAGES; i++)
-        cJSON_AddNumberToObject(ti, stages[i], r->seconds[i]);
-    cJSON_AddNumberToObject(ti, "total", total_s);
-    cJSON_AddItemToObject(root, "objectives", objectives_json(r->best.obj));
-    cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
-    cJSON_AddStringToObject(root, "pick_rule",
-                            "the front member with the lowest score: the sum over objectives of each "
-                            "objective divided by its median over the screening (norm); the simplest "
-                            "category within 5% of that score is preferred (none, then longitudinal "
-                            "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
-                            "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
-                            "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "
-                            "the champion becomes its plain twin");
-    cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
-    cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
-    cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
-    cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
-    cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));
-    cJSON_AddStringToObject(root, "category", sq_fit_kind_name(sq_fit_kind_of(&r->best.params)));
-    cJSON *pt = cJSON_AddArrayToObject(root, "pattern_types"); /* the base's, then each layer's */
-    cJSON_AddItemToArray(pt, cJSON_CreateString(sq_pattern_type_name(r->best.params.Pattern_Type)));
-    for (int l = 0; l < r->best.params.Pattern_Layers.count; l++)
-        cJSON_AddItemToArray(pt, cJSON_CreateString(sq_pattern_type_name(r->best.params.Pattern_Layers.layer[l].spec.Pattern_Type)));
-    cJSON *cs = cJSON_AddObjectToObject(root, "category_scores");
-    for (int c = 0; c < SQ_FIT_KINDS; c++)
-        if (isfinite(r->category_score[c]))
-            cJSON_AddItemToObject(cs, sq_fit_kind_name(c), sq__json_exact_number(r->category_score[c]));
-    cJSON *ni = cJSON_AddArrayToObject(root, "niches");
-    for (int c = 0; c < SQ_FIT_KINDS; c++)
-        if (r->niche[c])
-            cJSON_AddItemToArray(ni, cJSON_CreateString(sq_fit_kind_name(c)));
-    cJSON *po = cJSON_AddObjectToObject(root, "polish");
-    cJSON_AddItemToObject(po, "score_before", sq__json_exact_number(r->polish_before));
-    cJSON_AddItemToObject(po, "score_after", sq__json_exact_number(r->polish_after));
-    cJSON_AddBoolToObject(po, "kept", r->polish_kept);
-    cJSON *fr = cJSON_AddArrayToObject(root, "front");
-    for (int i = 0; i < r->nfront; i++) {
-        cJSON *e = cJSON_CreateObject();
-        snprintf(path, sizeof path, "front/%02d.json", i);
-        cJSON_AddStringToObject(e, "preset", path);
-        cJSON_AddStringToObject(e, "category", sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)));
-        cJSON_AddItemToObject(e, "objectives", objectives_json(r->front[i].obj));
-        cJSON_AddItemToObject(e, "score", sq__json_exact_number(r->front[i].score));
-        cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(r->front[i].view_scale));
-        cJSON_AddItemToArray(fr, e);
-    }
-    cJSON *hi = cJSON_AddArrayToObject(root, "history");
-    for (int i = 0; i < r->nhistory; i++) {
-        cJSON *e = cJSON_CreateObject();
-        cJSON_AddNumberToObject(e, "evaluations", (double)r->history[i].evals);
-        cJSON_AddNumberToObject(e, "seconds", r->history[i].seconds);
-        cJSON_AddNumberToObject(e, "best_score", r->history[i].best_score);
-        cJSON_AddItemToObject(e, "best", objectives_json(r->history[i].best));
-        cJSON_AddItemToArray(hi, e);
-    }
-    (void)target;
-    char *text = sq__json_print(root);
-    cJSON_Delete(root);
-    if (!text)
-        return sq_error_set(err, SQ_ERR_NOMEM, "fit.json", "out of memory");
-    snprintf(path, sizeof path, "%s/fit.json", outdir);
-    st = sq_io_write_file(path, text, strlen(text), err);
-    free(text);
-    if (st != SQ_OK)
-        return st;
-    return cli_fit_report(outdir, photo_path, r, total_s, err);
-}
-
 int cmd_fit(int argc, char **argv)
 {
-    enum { O_EVALS = 1000, O_SIZE, O_RESUME, O_METHOD, O_WORK, O_JSON, O_CATEGORIES };
+    enum { O_RESUME = CLI_FITOPT_END, O_METHOD, O_JSON };
     static const struct option opts[] = {
+        CLI_FIT_LONGOPTS,
         {"mask", required_argument, NULL, 'm'},     {"output", required_argument, NULL, 'o'},
-        {"budget", required_argument, NULL, 'b'},   {"evals", required_argument, NULL, O_EVALS},
-        {"seed", required_argument, NULL, 's'},     {"threads", required_argument, NULL, 'j'},
-        {"size", required_argument, NULL, O_SIZE},  {"resume", required_argument, NULL, O_RESUME},
-        {"method", required_argument, NULL, O_METHOD}, {"work-size", required_argument, NULL, O_WORK},
+        {"resume", required_argument, NULL, O_RESUME}, {"method", required_argument, NULL, O_METHOD},
         {"quiet", no_argument, NULL, 'q'},          {"json", no_argument, NULL, O_JSON},
-        {"categories", required_argument, NULL, O_CATEGORIES},
         {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
-    const char *mask_path = NULL, *outdir = NULL, *resume = NULL;
-    SqFitOptions fo = sq_fit_options_default();
-    SqPrepOptions po = sq_fit_prep_options_default();
-    int size = 1024, c, budget_given = 0;
-    Ctx x = {0};
+    const char *resume = NULL;
+    CliFitJob job;
+    cli_fit_job_init(&job);
+    int c;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "hm:o:b:s:j:q", opts, NULL)) != -1) {
-        char *end;
-        long v;
-        switch (c) {
-        case 'm': mask_path = optarg; break;
-        case 'o': outdir = optarg; break;
-        case 'b':
-            fo.budget = cli_parse_time(optarg);
-            if (fo.budget <= 0)
-                return cli_usage("fit", "--budget takes a time such as 60s, 90 or 2m, got '%s'", optarg);
-            budget_given = 1;
-            break;
-        case O_EVALS:
-            v = strtol(optarg, &end, 10);
-            if (*end || v < 100 || v > 100000000)
-                return cli_usage("fit", "--evals must be 100 to 100000000, got '%s'", optarg);
-            fo.max_evals = v;
-            break;
-        case 's':
-            v = strtol(optarg, &end, 10);
-            if (*end || v < 0 || v > 2147483647L)
-                return cli_usage("fit", "--seed must be 0 to 2147483647, got '%s'", optarg);
-            fo.seed = (uint64_t)v;
-            break;
-        case 'j':
-            v = strtol(optarg, &end, 10);
-            if (*end || v < 1 || v > 1024)
-                return cli_usage("fit", "--threads must be 1 to 1024, got '%s'", optarg);
-            fo.threads = (int)v;
-            break;
-        case O_SIZE:
-            v = strtol(optarg, &end, 10);
-            if (*end || v < 64 || v > 8192)
-                return cli_usage("fit", "--size must be 64 to 8192, got '%s'", optarg);
-            size = (int)v;
-            break;
-        case O_WORK:
-            v = strtol(optarg, &end, 10);
-            if (*end || v < 256 || v > 8192)
-                return cli_usage("fit", "--work-size must be 256 to 8192, got '%s'", optarg);
-            po.work_size = (int)v;
-            break;
-        case O_RESUME: resume = optarg; break;
-        case O_CATEGORIES: {
-            fo.categories = 0;
-            char list[256];
-            if (strlen(optarg) >= sizeof list)
-                return cli_usage("fit", "--categories is too long");
-            snprintf(list, sizeof list, "%s", optarg);
-            for (char *save = NULL, *name = strtok_r(list, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
-                int found = -1;
-                for (int k = 0; k < SQ_FIT_KINDS; k++)
-                    if (strcmp(name, sq_fit_kind_name(k)) == 0)
-                        found = k;
-                if (found < 0)
-                    return cli_usage("fit",
-                                     "--categories takes kinds among none, longitudinal, transversal, "
-                                     "spots, other_simple, complex, layered; got '%s'",
-                                     name);
-                fo.categories |= 1u << found;
-            }
-            if (fo.categories == 0)
-                return cli_usage("fit", "--categories needs at least one pattern type");
-            break;
+        int taken = cli_fit_job_option(&job, c, optarg, "fit");
+        if (taken >= 0) {
+            if (taken != CLI_OK)
+                return taken;
+            continue;
         }
+        switch (c) {
+        case 'm': job.mask = optarg; break;
+        case 'o': job.outdir = optarg; break;
+        case O_RESUME: resume = optarg; break;
         case O_METHOD: {
             int found = 0;
             for (int m = SQ_FIT_SQUAMA; m <= SQ_FIT_ISRES; m++)
                 if (strcmp(optarg, sq_fit_method_name((SqFitMethod)m)) == 0) {
-                    fo.method = (SqFitMethod)m;
+                    job.fo.method = (SqFitMethod)m;
                     found = 1;
                 }
             if (!found)
                 return cli_usage("fit", "--method is squama, random, esch, crs2 or isres, got '%s'", optarg);
             break;
         }
-        case 'q': x.quiet = 1; break;
-        case O_JSON: x.json = 1; break;
+        case 'q': job.quiet = 1; break;
+        case O_JSON: job.json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
             if (optopt && strchr("mobsj", optopt))
@@ -519,92 +176,59 @@ int cmd_fit(int argc, char **argv)
     }
     if (argc - optind != 1)
         return cli_usage("fit", "give one PHOTO");
-    if (!outdir)
+    if (!job.outdir)
         return cli_usage("fit", "say where the results go with -o DIR");
-    if (fo.max_evals > 0 && !budget_given)
-        fo.budget = 0; /* an evaluation budget alone: deterministic */
-    const char *photo_path = argv[optind];
+    cli_fit_job_options_done(&job);
+    job.photo = argv[optind];
     SqError err;
     SqFitCandidate *seeds = NULL;
     if (resume) {
         double spent = 0;
-        if (load_checkpoint(resume, &seeds, &fo.nseeds, &spent, &err) != 0)
+        if (load_checkpoint(resume, &seeds, &job.fo.nseeds, &spent, &err) != 0)
             return cli_fail(&err);
-        if (fo.categories) { /* the checkpoint's presets of categories left out stay behind */
+        if (job.fo.categories) { /* the checkpoint's presets of categories left out stay behind */
             int kept = 0;
-            for (int i = 0; i < fo.nseeds; i++)
-                if ((fo.categories >> sq_fit_kind_of(&seeds[i].params)) & 1u)
+            for (int i = 0; i < job.fo.nseeds; i++)
+                if ((job.fo.categories >> sq_fit_kind_of(&seeds[i].params)) & 1u)
                     seeds[kept++] = seeds[i];
-            if (kept < fo.nseeds && !x.quiet)
+            if (kept < job.fo.nseeds && !job.quiet)
                 fprintf(stderr, "squama: %d of the checkpoint's %d presets are of categories left out\n",
-                        fo.nseeds - kept, fo.nseeds);
-            fo.nseeds = kept;
+                        job.fo.nseeds - kept, job.fo.nseeds);
+            job.fo.nseeds = kept;
         }
-        fo.seeds = seeds;
-        x.offset_s = spent;
-        if (fo.budget > 0)
-            fo.budget = fmax(10.0, fo.budget - spent);
+        job.fo.seeds = seeds;
+        job.offset_s = spent;
+        if (job.fo.budget > 0)
+            job.fo.budget = fmax(10.0, job.fo.budget - spent);
     }
-    if (cli_mkdirs(outdir) != 0) {
-        free(seeds);
-        sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the output folder: %s", strerror(errno));
+    job.stop = &stop_flag;
+    struct sigaction sa = {0}, old;
+    sa.sa_handler = on_sigint;
+    sigaction(SIGINT, &sa, &old);
+    CliFitOutcome r;
+    SqStatus st = cli_fit_job_run(&job, &r, &err);
+    sigaction(SIGINT, &old, NULL);
+    free(seeds);
+    if (st != SQ_OK)
         return cli_fail(&err);
-    }
-    double t0 = now_s();
-    SqImage photo = {0}, mask = {0};
-    SqPrepared prep = {0};
-    SqFeatures target;
-    SqFitResult res = {0};
-    int rc = CLI_OK;
-    if (cli_load_photo(photo_path, mask_path, &photo, &mask, &err) != 0 ||
-        sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK ||
-        sq_fit_features(&prep.strip, &prep.valid, &target, &err) != SQ_OK)
-        rc = cli_fail(&err);
-    if (rc == CLI_OK) {
-        x.outdir = outdir;
-        x.tty = isatty(STDERR_FILENO);
-        x.budget = fo.budget;
-        x.max_evals = fo.max_evals;
-        fo.progress = progress;
-        fo.ctx = &x;
-        fo.stop = &stop_flag;
-        struct sigaction sa = {0}, old;
-        sa.sa_handler = on_sigint;
-        sigaction(SIGINT, &sa, &old);
-        SqStatus st = sq_fit_run(&target, &fo, &res, &err);
-        sigaction(SIGINT, &old, NULL);
-        if (x.tty && !x.quiet && !x.json)
-            fputs("\n", stderr);
-        if (st != SQ_OK)
-            rc = cli_fail(&err);
-    }
-    double total = now_s() - t0;
-    if (rc == CLI_OK && write_outputs(outdir, photo_path, mask_path, &prep, &target, &fo, &res, size, total, &err) != SQ_OK)
-        rc = cli_fail(&err);
-    if (rc == CLI_OK && x.checkpoint_error[0] && !x.quiet)
-        fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);
-    if (rc == CLI_OK && x.json) {
+    const char *outdir = job.outdir;
+    if (job.json) {
         printf("{\"best\": \"%s/best.json\", \"report\": \"%s/report.html\", \"category\": \"%s\", "
                "\"score\": %.4f, \"view_scale\": %.3f, \"evaluations\": %ld, \"seconds\": %.1f, \"stopped_early\": %s}\n",
-               outdir, outdir, sq_fit_kind_name(sq_fit_kind_of(&res.best.params)), res.best.score,
-               res.best.view_scale, res.evals, total, res.stopped ? "true" : "false");
-    } else if (rc == CLI_OK && !x.quiet) {
+               outdir, outdir, sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.best.score,
+               r.best.view_scale, r.evals, r.seconds, r.stopped ? "true" : "false");
+    } else if (!job.quiet) {
         printf("%s: %s pattern, score %.3f, view scale %.2f; %ld evaluations in %.1f s (%.0f/s)%s\n",
-               photo_path, sq_fit_kind_name(sq_fit_kind_of(&res.best.params)), res.best.score,
-               res.best.view_scale, res.evals, total, res.evals / fmax(total, 1e-9),
-               res.stopped ? ", stopped early" : "");
+               job.photo, sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.best.score,
+               r.best.view_scale, r.evals, r.seconds, r.evals / fmax(r.seconds, 1e-9),
+               r.stopped ? ", stopped early" : "");
         printf("  objectives:");
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
-            printf(" %s %.3f", sq_fit_objective_name(k), res.best.obj[k]);
+            printf(" %s %.3f", sq_fit_objective_name(k), r.best.obj[k]);
         printf("\n  wrote %s/best.json, %d alternatives in %s/front, maps, preview\n  report: %s/report.html\n",
-               outdir, res.nfront, outdir, outdir);
+               outdir, r.nfront, outdir, outdir);
     }
-    sq_fit_result_free(&res);
-    sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
-    free(seeds);
-    if (rc == CLI_OK && interrupted)
+    if (interrupted)
         return 130;
-    return rc;
+    return CLI_OK;
 }

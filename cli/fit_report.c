@@ -3,66 +3,23 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "buf.h"
 #include "fit_report.h"
 #include "squama/io.h"
-
-typedef struct Buf {
-    char *s;
-    size_t n, cap;
-    int fail;
-} Buf;
-
-__attribute__((format(printf, 2, 3))) static void put(Buf *b, const char *fmt, ...)
-{
-    if (b->fail)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    int len = vsnprintf(NULL, 0, fmt, ap);
-    va_end(ap);
-    if (len < 0 || b->n + (size_t)len + 1 > b->cap) {
-        size_t cap = (b->cap ? 2 * b->cap : 16384) + (size_t)(len > 0 ? len : 0);
-        char *s = realloc(b->s, cap);
-        if (!s || len < 0) {
-            b->fail = 1;
-            return;
-        }
-        b->s = s;
-        b->cap = cap;
-    }
-    va_start(ap, fmt);
-    vsnprintf(b->s + b->n, b->cap - b->n, fmt, ap);
-    va_end(ap);
-    b->n += (size_t)len;
-}
-
-static void put_escaped(Buf *b, const char *s)
-{
-    for (; *s; s++) {
-        switch (*s) {
-        case '<': put(b, "&lt;"); break;
-        case '>': put(b, "&gt;"); break;
-        case '&': put(b, "&amp;"); break;
-        case '"': put(b, "&quot;"); break;
-        default: put(b, "%c", *s); break;
-        }
-    }
-}
 
 enum { W = 520, H = 300, ML = 60, MR = 16, MT = 16, MB = 44 };
 
 /* The best score and each objective's best (relative to its first value) against evaluations. */
-static void convergence_svg(Buf *b, const SqFitResult *r)
+static void convergence_svg(CliBuf *b, const SqFitResult *r)
 {
-    put(b, "<svg width='%d' height='%d' viewBox='0 0 %d %d' font-size='11' font-family='sans-serif'>\n", W, H, W, H);
-    put(b, "<rect x='%d' y='%d' width='%d' height='%d' fill='#fafafa' stroke='#999'/>\n", ML, MT, W - ML - MR, H - MT - MB);
+    cli_buf_put(b, "<svg width='%d' height='%d' viewBox='0 0 %d %d' font-size='11' font-family='sans-serif'>\n", W, H, W, H);
+    cli_buf_put(b, "<rect x='%d' y='%d' width='%d' height='%d' fill='#fafafa' stroke='#999'/>\n", ML, MT, W - ML - MR, H - MT - MB);
     if (r->nhistory < 1) {
-        put(b, "</svg>\n");
+        cli_buf_put(b, "</svg>\n");
         return;
     }
     double xmax = (double)r->history[r->nhistory - 1].evals, ymin = INFINITY, ymax = -INFINITY;
@@ -76,7 +33,7 @@ static void convergence_svg(Buf *b, const SqFitResult *r)
         ymax = fmax(ymax, log10(r->best.score));
     }
     if (!isfinite(ymin)) {
-        put(b, "</svg>\n");
+        cli_buf_put(b, "</svg>\n");
         return;
     }
     ymin = floor(ymin * 10) / 10 - 0.05;
@@ -86,30 +43,30 @@ static void convergence_svg(Buf *b, const SqFitResult *r)
 #define PY(v) (MT + ph * (ymax - log10(v)) / (ymax - ymin))
     for (int t = 0; t <= 4; t++) { /* axes */
         double ly = ymin + (ymax - ymin) * t / 4;
-        put(b, "<text x='%d' y='%.1f' text-anchor='end'>%.2f</text>\n", ML - 4, MT + ph * (1 - t / 4.0) + 4, pow(10, ly));
-        put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%.0f</text>\n", ML + pw * t / 4, H - MB + 16, xmax * t / 4);
+        cli_buf_put(b, "<text x='%d' y='%.1f' text-anchor='end'>%.2f</text>\n", ML - 4, MT + ph * (1 - t / 4.0) + 4, pow(10, ly));
+        cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%.0f</text>\n", ML + pw * t / 4, H - MB + 16, xmax * t / 4);
     }
-    put(b, "<text x='%.1f' y='%d' text-anchor='middle'>evaluations</text>\n", ML + pw / 2, H - 8);
-    put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>best score (log)</text>\n",
+    cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>evaluations</text>\n", ML + pw / 2, H - 8);
+    cli_buf_put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>best score (log)</text>\n",
         MT + ph / 2, MT + ph / 2);
-    put(b, "<polyline fill='none' stroke='#c0392b' stroke-width='2' points='");
+    cli_buf_put(b, "<polyline fill='none' stroke='#c0392b' stroke-width='2' points='");
     for (int i = 0; i < r->nhistory; i++)
         if (isfinite(r->history[i].best_score) && r->history[i].best_score > 0)
-            put(b, "%.1f,%.1f ", PX(r->history[i].evals), PY(r->history[i].best_score));
-    put(b, "'/>\n");
+            cli_buf_put(b, "%.1f,%.1f ", PX(r->history[i].evals), PY(r->history[i].best_score));
+    cli_buf_put(b, "'/>\n");
     if (isfinite(r->best.score) && r->best.score > 0)
-        put(b, "<circle cx='%.1f' cy='%.1f' r='5' fill='#27ae60'><title>re-scored champion %.3f</title></circle>\n",
+        cli_buf_put(b, "<circle cx='%.1f' cy='%.1f' r='5' fill='#27ae60'><title>re-scored champion %.3f</title></circle>\n",
             PX(r->evals), PY(r->best.score), r->best.score);
 #undef PX
 #undef PY
-    put(b, "</svg>\n");
+    cli_buf_put(b, "</svg>\n");
 }
 
 /* Two objectives of the front against each other, the champion in green. */
-static void front_svg(Buf *b, const SqFitResult *r, int ox, int oy)
+static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
 {
-    put(b, "<svg width='%d' height='%d' viewBox='0 0 %d %d' font-size='11' font-family='sans-serif'>\n", W, H, W, H);
-    put(b, "<rect x='%d' y='%d' width='%d' height='%d' fill='#fafafa' stroke='#999'/>\n", ML, MT, W - ML - MR, H - MT - MB);
+    cli_buf_put(b, "<svg width='%d' height='%d' viewBox='0 0 %d %d' font-size='11' font-family='sans-serif'>\n", W, H, W, H);
+    cli_buf_put(b, "<rect x='%d' y='%d' width='%d' height='%d' fill='#fafafa' stroke='#999'/>\n", ML, MT, W - ML - MR, H - MT - MB);
     double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
     for (int i = 0; i < r->nfront; i++) {
         x0 = fmin(x0, r->front[i].obj[ox]);
@@ -118,7 +75,7 @@ static void front_svg(Buf *b, const SqFitResult *r, int ox, int oy)
         y1 = fmax(y1, r->front[i].obj[oy]);
     }
     if (r->nfront == 0 || !isfinite(x0) || !isfinite(y0)) {
-        put(b, "</svg>\n");
+        cli_buf_put(b, "</svg>\n");
         return;
     }
     double dx = fmax(x1 - x0, 1e-9) * 0.1, dy = fmax(y1 - y0, 1e-9) * 0.1;
@@ -128,95 +85,95 @@ static void front_svg(Buf *b, const SqFitResult *r, int ox, int oy)
     y1 += dy;
     double pw = W - ML - MR, ph = H - MT - MB;
     for (int t = 0; t <= 4; t++) {
-        put(b, "<text x='%d' y='%.1f' text-anchor='end'>%.3g</text>\n", ML - 4, MT + ph * (1 - t / 4.0) + 4, y0 + (y1 - y0) * t / 4);
-        put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%.3g</text>\n", ML + pw * t / 4, H - MB + 16, x0 + (x1 - x0) * t / 4);
+        cli_buf_put(b, "<text x='%d' y='%.1f' text-anchor='end'>%.3g</text>\n", ML - 4, MT + ph * (1 - t / 4.0) + 4, y0 + (y1 - y0) * t / 4);
+        cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%.3g</text>\n", ML + pw * t / 4, H - MB + 16, x0 + (x1 - x0) * t / 4);
     }
-    put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%s</text>\n", ML + pw / 2, H - 8, sq_fit_objective_name(ox));
-    put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>%s</text>\n", MT + ph / 2,
+    cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%s</text>\n", ML + pw / 2, H - 8, sq_fit_objective_name(ox));
+    cli_buf_put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>%s</text>\n", MT + ph / 2,
         MT + ph / 2, sq_fit_objective_name(oy));
     for (int i = r->nfront - 1; i >= 0; i--) {
         double px = ML + pw * (r->front[i].obj[ox] - x0) / (x1 - x0);
         double py = MT + ph * (y1 - r->front[i].obj[oy]) / (y1 - y0);
-        put(b, "<circle cx='%.1f' cy='%.1f' r='%d' fill='%s' fill-opacity='0.8'><title>front/%02d.json (%s), score %.3f</title></circle>\n",
+        cli_buf_put(b, "<circle cx='%.1f' cy='%.1f' r='%d' fill='%s' fill-opacity='0.8'><title>front/%02d.json (%s), score %.3f</title></circle>\n",
             px, py, i == 0 ? 7 : 4, i == 0 ? "#27ae60" : "#2c3e80", i,
             sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)), r->front[i].score);
     }
-    put(b, "</svg>\n");
+    cli_buf_put(b, "</svg>\n");
 }
 
 SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
                         double total_s, SqError *err)
 {
-    Buf b = {0};
-    put(&b, "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama fit: ");
-    put_escaped(&b, photo_path);
-    put(&b, "</title>\n<style>body{font-family:sans-serif;margin:24px;color:#222}"
+    CliBuf b = {0};
+    cli_buf_put(&b, "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama fit: ");
+    cli_buf_html(&b, photo_path);
+    cli_buf_put(&b, "</title>\n<style>body{font-family:sans-serif;margin:24px;color:#222}"
             "figure{display:inline-block;margin:0 12px 12px 0;vertical-align:top}"
             "figure img{max-height:320px;max-width:420px;border:1px solid #ccc;image-rendering:auto}"
             "figcaption{font-size:12px;color:#555}table{border-collapse:collapse;font-size:13px}"
             "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}th{background:#eee}"
             "td.l{text-align:left}.plots svg{margin-right:16px}</style></head><body>\n");
-    put(&b, "<h1>squama fit</h1>\n<p>");
-    put_escaped(&b, photo_path);
-    put(&b, ": <b>%s</b> pattern, score %.3f, view scale %.2f body circumferences per texture tile. "
+    cli_buf_put(&b, "<h1>squama fit</h1>\n<p>");
+    cli_buf_html(&b, photo_path);
+    cli_buf_put(&b, ": <b>%s</b> pattern, score %.3f, view scale %.2f body circumferences per texture tile. "
             "%ld evaluations in %.1f s (%.0f per second)%s.</p>\n",
         sq_fit_kind_name(sq_fit_kind_of(&r->best.params)), r->best.score, r->best.view_scale, r->evals,
         total_s, r->evals / fmax(total_s, 1e-9), r->stopped ? "; <b>stopped early</b>" : "");
-    put(&b, "<div>\n");
+    cli_buf_put(&b, "<div>\n");
     static const char *const pics[][2] = {
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},
         {"strip.png", "straightened body"}, {"fitted_strip.png", "the fit, seen the same way"},
         {"basecolor.png", "fitted texture (base colour)"}, {"normal.png", "normal map"},
         {"preview.png", "preview on a snake body"}};
     for (size_t i = 0; i < sizeof pics / sizeof pics[0]; i++)
-        put(&b, "<figure><a href='%s'><img src='%s' alt='%s'></a><figcaption>%s</figcaption></figure>\n", pics[i][0],
+        cli_buf_put(&b, "<figure><a href='%s'><img src='%s' alt='%s'></a><figcaption>%s</figcaption></figure>\n", pics[i][0],
             pics[i][0], pics[i][1], pics[i][1]);
-    put(&b, "</div>\n<h2>Objectives (lower is better)</h2>\n<table><tr><th></th>");
+    cli_buf_put(&b, "</div>\n<h2>Objectives (lower is better)</h2>\n<table><tr><th></th>");
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
-        put(&b, "<th>%s</th>", sq_fit_objective_name(k));
-    put(&b, "<th>score</th></tr>\n<tr><td class='l'>best.json</td>");
+        cli_buf_put(&b, "<th>%s</th>", sq_fit_objective_name(k));
+    cli_buf_put(&b, "<th>score</th></tr>\n<tr><td class='l'>best.json</td>");
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
-        put(&b, "<td>%.4f</td>", r->best.obj[k]);
-    put(&b, "<td>%.3f</td></tr>\n<tr><td class='l'>norm (median of the screening)</td>", r->best.score);
+        cli_buf_put(&b, "<td>%.4f</td>", r->best.obj[k]);
+    cli_buf_put(&b, "<td>%.3f</td></tr>\n<tr><td class='l'>norm (median of the screening)</td>", r->best.score);
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
-        put(&b, "<td>%.4f</td>", r->norm[k]);
-    put(&b, "<td></td></tr></table>\n");
-    put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
+        cli_buf_put(&b, "<td>%.4f</td>", r->norm[k]);
+    cli_buf_put(&b, "<td></td></tr></table>\n");
+    cli_buf_put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
             "re-scored Pareto front with the lowest score, except that the simplest category within 5%% of it is "
             "preferred (plain, then stripes or bands, then spots, then automata, then layered patterns, then "
             "reaction-diffusion: the simpler explanation). ");
     if (r->plain_twin)
-        put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
+        cli_buf_put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
                 "colour): best.json is its plain twin%s. ",
             100 * r->visibility, r->nfront > 1 ? ", and the pattern itself is front/01.json" : "");
     if (r->polish_before > 0)
-        put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
+        cli_buf_put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");
     else
-        put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
-    put(&b, "<h2>Categories</h2>\n<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
+        cli_buf_put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
+    cli_buf_put(&b, "<h2>Categories</h2>\n<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))
             continue;
-        put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_fit_kind_name(c),
+        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_fit_kind_name(c),
             r->category_score[c], r->survivor[c] ? "to the end" : r->niche[c] ? "dropped on the way" : "");
     }
-    put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
+    cli_buf_put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
     convergence_svg(&b, r);
     front_svg(&b, r, SQ_OBJ_PALETTE, SQ_OBJ_SHAPE);
     front_svg(&b, r, SQ_OBJ_ALONG, SQ_OBJ_ACROSS);
-    put(&b, "</div>\n<h2>Front</h2>\n<table><tr><th>preset</th><th>category</th><th>view scale</th>");
+    cli_buf_put(&b, "</div>\n<h2>Front</h2>\n<table><tr><th>preset</th><th>category</th><th>view scale</th>");
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
-        put(&b, "<th>%s</th>", sq_fit_objective_name(k));
-    put(&b, "<th>score</th></tr>\n");
+        cli_buf_put(&b, "<th>%s</th>", sq_fit_objective_name(k));
+    cli_buf_put(&b, "<th>score</th></tr>\n");
     for (int i = 0; i < r->nfront; i++) {
-        put(&b, "<tr><td class='l'><a href='front/%02d.json'>front/%02d.json</a></td><td class='l'>%s</td><td>%.2f</td>", i, i,
+        cli_buf_put(&b, "<tr><td class='l'><a href='front/%02d.json'>front/%02d.json</a></td><td class='l'>%s</td><td>%.2f</td>", i, i,
             sq_fit_kind_name(sq_fit_kind_of(&r->front[i].params)), r->front[i].view_scale);
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
-            put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
-        put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
+            cli_buf_put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
+        cli_buf_put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
     }
-    put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, polish %.1f s. "
+    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, polish %.1f s. "
             "All numbers are in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
         r->seconds[0], r->seconds[1], r->seconds[2], r->seconds[3]);
     if (b.fail) {

@@ -15,6 +15,7 @@ static const CliCommand commands[] = {
     {"score", "score presets against a photo: objectives and Pareto rank", cmd_score},
     {"fit", "fit the generator to a photo: best preset, front, textures, report", cmd_fit},
     {"seed", "starting presets for artists: diverse, near a preset, or from a photo", cmd_seed},
+    {"batch", "fit every photo of a manifest into a browsable catalogue (cores, MPI, Slurm)", cmd_batch},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

@@ -65,6 +65,44 @@ SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqErro
 SqStatus sq_io_read_file(const char *path, size_t max_bytes, char **data, size_t *len,
                          SqError *err);
 
+/* ---- CSV (csv.c) ----
+ * RFC 4180 text: fields separated by commas, records by CRLF or LF; a field in double
+ * quotes may hold commas, line breaks and doubled quotes (""). A UTF-8 byte-order mark
+ * at the start is skipped, and so are empty lines. An unterminated quote, a character
+ * after a closing quote or a NUL byte is an error naming the line. */
+
+enum { SQ_CSV_MAX_FIELDS = 1024 };          /* per record */
+enum { SQ_CSV_MAX_BYTES = 64 << 20 };       /* per file read by sq_io_csv_read */
+
+typedef struct SqCsvRecord {
+    int line;        /* 1-based line on which the record starts */
+    int nfields;     /* >= 1 */
+    char **fields;   /* NUL-terminated, unquoted */
+} SqCsvRecord;
+
+typedef struct SqCsv {
+    int nrecords;
+    SqCsvRecord *records;
+    char *store_;    /* internal: the fields' bytes */
+    char **ptrs_;    /* internal: every record's field pointers */
+} SqCsv;
+
+/* Parses len bytes of text (no NUL needed); name is used in messages ("name:line"). On
+ * error nothing is allocated in out. */
+SqStatus sq_io_csv_parse(const char *text, size_t len, const char *name, SqCsv *out,
+                         SqError *err);
+
+/* Reads and parses a file of at most SQ_CSV_MAX_BYTES. */
+SqStatus sq_io_csv_read(const char *path, SqCsv *out, SqError *err);
+
+/* NULL-safe; zeroes csv. */
+void sq_io_csv_free(SqCsv *csv);
+
+/* Appends field to a growing, NUL-terminated buffer as one RFC 4180 field (quoted when it
+ * holds a comma, a quote or a line break), followed by `end` (',' or '\n'); -1 when out
+ * of memory. */
+int sq_io_csv_append(char **buf, size_t *len, size_t *cap, const char *field, char end);
+
 /* sRGB transfer functions (IEC 61966-2-1). */
 float sq_io_srgb_to_linear(float v);
 float sq_io_linear_to_srgb(float v);

@@ -1,0 +1,347 @@
+/* squama batch: one row fitted into its folder, read back, recorded; rows on local threads. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include <cjson/cJSON.h>
+
+#include "batch.h"
+#include "cli.h"
+#include "json_util.h"
+#include "squama/io.h"
+
+enum { THUMB = 160 }; /* the thumbnails' longest side */
+
+/* src shrunk (box filter) to at most THUMB pixels a side, written as PNG to dst. */
+static SqStatus thumbnail(const char *src, const char *dst, SqError *err)
+{
+    SqImage img, t;
+    SqStatus st = sq_io_read_image(src, NULL, &img, NULL, err);
+    if (st != SQ_OK)
+        return st;
+    int big = img.width > img.height ? img.width : img.height;
+    int f = (big + THUMB - 1) / THUMB;
+    if (f < 1)
+        f = 1;
+    int w = (img.width + f - 1) / f, h = (img.height + f - 1) / f;
+    if (sq_image_alloc(&t, w, h, 3, img.space) != 0) {
+        sq_image_free(&img);
+        return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
+    }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double sum[3] = {0};
+            int n = 0;
+            for (int yy = y * f; yy < (y + 1) * f && yy < img.height; yy++)
+                for (int xx = x * f; xx < (x + 1) * f && xx < img.width; xx++, n++)
+                    for (int c = 0; c < 3; c++)
+                        sum[c] += sq_image_at(&img, xx, yy)[c];
+            for (int c = 0; c < 3; c++)
+                sq_image_at(&t, x, y)[c] = (float)(sum[c] / n);
+        }
+    sq_image_free(&img);
+    st = sq_io_write_image(dst, &t, NULL, err);
+    sq_image_free(&t);
+    return st;
+}
+
+/* DIR/<id>/done.json: the row and its outcome, everything the catalogue needs. */
+static SqStatus write_done(const char *dir, const CliManifestRow *row, const BatchResult *r, SqError *err)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "format", "squama-batch-row/1");
+    cJSON_AddStringToObject(root, "id", row->id);
+    cJSON_AddNumberToObject(root, "line", row->line);
+    cJSON_AddStringToObject(root, "photo", row->photo ? row->photo : "");
+    if (row->mask)
+        cJSON_AddStringToObject(root, "mask", row->mask);
+    cJSON_AddStringToObject(root, "species", row->species);
+    if (row->expected >= 0)
+        cJSON_AddStringToObject(root, "expected", sq_pattern_type_name(row->expected));
+    cJSON_AddStringToObject(root, "status", r->status == BATCH_OK ? "ok" : "error");
+    if (r->status == BATCH_OK) {
+        cJSON_AddStringToObject(root, "category", sq_pattern_type_name(r->fitted));
+        cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->score));
+        cJSON *o = cJSON_AddObjectToObject(root, "objectives");
+        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+            cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(r->obj[k]));
+        cJSON_AddNumberToObject(root, "evaluations", (double)r->evals);
+    } else {
+        cJSON_AddStringToObject(root, "error", r->error);
+    }
+    cJSON_AddNumberToObject(root, "seconds", r->seconds);
+    char *text = sq__json_print(root);
+    cJSON_Delete(root);
+    char path[4096];
+    if (cli_pathf(path, sizeof path, "%s/done.json", dir) != 0) {
+        free(text);
+        return sq_error_set(err, SQ_ERR_IO, dir, "the path is too long");
+    }
+    if (!text)
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
+    SqStatus st = sq_io_write_file(path, text, strlen(text), err);
+    free(text);
+    return st;
+}
+
+static const char *json_str(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsString(v) ? v->valuestring : NULL;
+}
+
+static double json_num(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+int batch_parse_done(const char *text, size_t len, BatchDone *d)
+{
+    memset(d, 0, sizeof *d);
+    d->r.fitted = -1;
+    d->expected = -1;
+    cJSON *root = cJSON_ParseWithLength(text, len);
+    const char *fmt = json_str(root, "format"), *status = json_str(root, "status");
+    const char *id = json_str(root, "id"), *photo = json_str(root, "photo");
+    if (!root || !fmt || strcmp(fmt, "squama-batch-row/1") != 0 || !status || !id || !photo ||
+        strlen(id) > CLI_ID_MAX) {
+        cJSON_Delete(root);
+        return 0;
+    }
+    snprintf(d->id, sizeof d->id, "%s", id);
+    snprintf(d->photo, sizeof d->photo, "%s", photo);
+    const char *mask = json_str(root, "mask"), *species = json_str(root, "species");
+    const char *expected = json_str(root, "expected");
+    snprintf(d->mask, sizeof d->mask, "%s", mask ? mask : "");
+    snprintf(d->species, sizeof d->species, "%s", species ? species : "");
+    d->expected = expected ? cli_manifest_category(expected) : -1;
+    double line = json_num(root, "line");
+    d->line = isfinite(line) && line >= 0 && line < 1e9 ? (int)line : 0;
+    d->r.seconds = json_num(root, "seconds");
+    int ok = 1;
+    if (strcmp(status, "ok") == 0) {
+        const char *cat = json_str(root, "category");
+        const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "objectives");
+        d->r.status = BATCH_OK;
+        d->r.fitted = cat ? cli_manifest_category(cat) : -1;
+        d->r.score = json_num(root, "score");
+        d->r.evals = (long)fmax(0, fmin(1e15, json_num(root, "evaluations")));
+        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+            d->r.obj[k] = json_num(o, sq_fit_objective_name(k));
+        ok = d->r.fitted >= 0 && cJSON_IsObject(o);
+    } else if (strcmp(status, "error") == 0) {
+        const char *e = json_str(root, "error");
+        d->r.status = BATCH_ERROR;
+        snprintf(d->r.error, sizeof d->r.error, "%s", e ? e : "failed");
+    } else {
+        ok = 0;
+    }
+    d->r.resumed = 1;
+    cJSON_Delete(root);
+    return ok;
+}
+
+int batch_load_done(const char *dir, BatchDone *d)
+{
+    char path[4096], *text;
+    size_t len;
+    if (cli_pathf(path, sizeof path, "%s/done.json", dir) != 0 ||
+        sq_io_read_file(path, 1 << 20, &text, &len, NULL) != SQ_OK)
+        return 0;
+    int ok = batch_parse_done(text, len, d);
+    free(text);
+    return ok;
+}
+
+int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out)
+{
+    const CliManifestRow *row = &b->rows[i];
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s/%s", b->outdir, row->id);
+    BatchDone *d = malloc(sizeof *d);
+    if (!d)
+        return 0;
+    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 &&
+             strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
+             strcmp(d->mask, row->mask ? row->mask : "") == 0 &&
+             (d->r.status == BATCH_OK || errors_too);
+    if (ok) {
+        *out = d->r;
+        out->row = i;
+    }
+    free(d);
+    return ok;
+}
+
+void batch_fit_row(const Batch *b, int i, BatchResult *out)
+{
+    const CliManifestRow *row = &b->rows[i];
+    memset(out, 0, sizeof *out);
+    out->row = i;
+    out->fitted = -1;
+    out->rank = b->rank;
+    char tmp[4096], final[4096];
+    SqError err;
+    sq_error_clear(&err);
+    SqStatus st = SQ_OK;
+    if (cli_pathf(tmp, sizeof tmp, "%s/.tmp-%s", b->outdir, row->id) != 0 ||
+        cli_pathf(final, sizeof final, "%s/%s", b->outdir, row->id) != 0) {
+        out->status = BATCH_ERROR;
+        snprintf(out->error, sizeof out->error, "the output folder's path is too long");
+        return;
+    }
+    if (cli_remove_tree(tmp) != 0) /* a partial row of an interrupted run */
+        st = sq_error_set(&err, SQ_ERR_IO, tmp, "cannot remove the partial output: %s", strerror(errno));
+    CliFitJob job = b->job;
+    job.photo = row->photo;
+    job.mask = row->mask;
+    job.outdir = tmp;
+    job.quiet = 1;
+    job.json = 0;
+    job.fo.threads = b->threads;
+    CliFitOutcome fit;
+    if (st == SQ_OK)
+        st = cli_fit_job_run(&job, &fit, &err);
+    if (st == SQ_OK) {
+        static const char *const thumbs[][2] = {
+            {"photo.jpg", "thumb_photo.png"}, {"basecolor.png", "thumb_texture.png"}, {"preview.png", "thumb_preview.png"}};
+        for (size_t k = 0; k < sizeof thumbs / sizeof thumbs[0] && st == SQ_OK; k++) {
+            char src[4200], dst[4200];
+            snprintf(src, sizeof src, "%s/%s", tmp, thumbs[k][0]);
+            snprintf(dst, sizeof dst, "%s/%s", tmp, thumbs[k][1]);
+            st = thumbnail(src, dst, &err);
+        }
+    }
+    if (st == SQ_OK) {
+        out->status = BATCH_OK;
+        /* a layered skin combines pattern types: the thesis' complex category (its Sec. 4.2.5) */
+        out->fitted = sq_fit_kind_of(&fit.best.params) == SQ_FIT_LAYERED ? SQ_PATTERN_COMPLEX
+                                                                          : fit.best.params.Pattern_Type;
+        out->score = fit.best.score;
+        memcpy(out->obj, fit.best.obj, sizeof out->obj);
+        out->evals = fit.evals;
+        out->seconds = fit.seconds;
+    } else {
+        /* an error row keeps only its done.json */
+        out->status = BATCH_ERROR;
+        if (err.where[0])
+            snprintf(out->error, sizeof out->error, "%s (%s)", err.what, err.where);
+        else
+            snprintf(out->error, sizeof out->error, "%s", err.what);
+        cli_remove_tree(tmp);
+        if (cli_mkdirs(tmp) != 0) {
+            snprintf(out->error, sizeof out->error, "cannot create %.900s: %s", tmp, strerror(errno));
+            return;
+        }
+    }
+    /* done.json last, then the whole folder renamed into place */
+    if (write_done(tmp, row, out, &err) != SQ_OK || cli_remove_tree(final) != 0 || rename(tmp, final) != 0) {
+        out->status = BATCH_ERROR;
+        out->fitted = -1;
+        snprintf(out->error, sizeof out->error, "cannot complete %.900s: %.100s", final,
+                 err.status != SQ_OK ? err.what : strerror(errno));
+    }
+}
+
+void batch_report_row(const Batch *b, const BatchResult *r)
+{
+    const CliManifestRow *row = &b->rows[r->row];
+    double el = cli_now_s() - b->t0;
+    double eta = b->fitted_now > 0 ? el / b->fitted_now * (b->total - b->done) : NAN;
+    const char *cat = r->status == BATCH_OK ? sq_pattern_type_name(r->fitted) : "error";
+    if (b->json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "row", b->done);
+        cJSON_AddNumberToObject(o, "of", b->total);
+        cJSON_AddStringToObject(o, "id", row->id);
+        cJSON_AddNumberToObject(o, "line", row->line);
+        cJSON_AddStringToObject(o, "status", r->status == BATCH_OK ? "ok" : "error");
+        cJSON_AddStringToObject(o, "category", cat);
+        cJSON_AddStringToObject(o, "expected", row->expected >= 0 ? sq_pattern_type_name(row->expected) : "");
+        cJSON_AddBoolToObject(o, "resumed", r->resumed);
+        if (!r->resumed)
+            cJSON_AddNumberToObject(o, "rank", r->rank);
+        cJSON_AddNumberToObject(o, "seconds", round(r->seconds * 100) / 100);
+        cJSON_AddNumberToObject(o, "eta_s", isfinite(eta) ? round(eta) : -1);
+        if (r->status != BATCH_OK)
+            cJSON_AddStringToObject(o, "error", r->error);
+        char *text = cJSON_PrintUnformatted(o);
+        cJSON_Delete(o);
+        if (text)
+            printf("%s\n", text);
+        free(text);
+        fflush(stdout);
+    } else if (!b->quiet) {
+        char when[64] = "";
+        if (isfinite(eta))
+            snprintf(when, sizeof when, ", ETA %dm%02ds", (int)(eta / 60), (int)fmod(eta, 60));
+        if (r->status == BATCH_OK)
+            fprintf(stderr, "squama batch: [%d/%d] %s: %s%s%s%s, score %.3f, %.1f s%s\n", b->done, b->total,
+                    row->id, cat, row->expected >= 0 ? " (expected " : "",
+                    row->expected >= 0 ? sq_pattern_type_name(row->expected) : "", row->expected >= 0 ? ")" : "",
+                    r->score, r->seconds, r->resumed ? " (done before)" : when);
+        else
+            fprintf(stderr, "squama batch: [%d/%d] %s: error: %s%s\n", b->done, b->total, row->id[0] ? row->id : "?",
+                    r->error, r->resumed ? " (done before)" : when);
+    }
+}
+
+void batch_record(Batch *b, const BatchResult *r)
+{
+    pthread_mutex_lock(&b->lock);
+    b->results[r->row] = *r;
+    b->done++;
+    if (!r->resumed)
+        b->fitted_now++;
+    batch_report_row(b, r);
+    SqError err;
+    if (batch_write_catalogue(b->outdir, b->rows, b->results, b->nrows, &err) != SQ_OK) {
+        b->write_err = err;
+        b->write_failed = 1;
+    }
+    pthread_mutex_unlock(&b->lock);
+}
+
+typedef struct Local {
+    Batch *b;
+    BatchNextFn next;
+    void *ctx;
+    pthread_mutex_t lock;
+} Local;
+
+static void *local_worker(void *arg)
+{
+    Local *l = arg;
+    for (;;) {
+        pthread_mutex_lock(&l->lock);
+        int i = l->next(l->ctx);
+        pthread_mutex_unlock(&l->lock);
+        if (i < 0)
+            return NULL;
+        BatchResult r;
+        batch_fit_row(l->b, i, &r);
+        batch_record(l->b, &r);
+    }
+}
+
+void batch_run_local(Batch *b, int jobs, BatchNextFn next, void *ctx)
+{
+    Local l = {.b = b, .next = next, .ctx = ctx};
+    pthread_mutex_init(&l.lock, NULL);
+    pthread_t th[64];
+    int n = 0;
+    for (int k = 1; k < jobs && k < 64; k++) /* this thread is the first job */
+        if (pthread_create(&th[n], NULL, local_worker, &l) == 0)
+            n++;
+    local_worker(&l);
+    for (int k = 0; k < n; k++)
+        pthread_join(th[k], NULL);
+    pthread_mutex_destroy(&l.lock);
+}

@@ -1,0 +1,200 @@
+/* squama batch's catalogue: catalogue.csv, and index.html with thumbnails, category filters
+ * and the confusion matrix of expected against fitted categories. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "batch.h"
+#include "buf.h"
+#include "squama/io.h"
+
+void batch_confusion(const CliManifestRow *rows, const BatchResult *res, int n, BatchConfusion *c)
+{
+    memset(c, 0, sizeof *c);
+    for (int i = 0; i < n; i++) {
+        int e = rows[i].expected, f = res[i].fitted;
+        if (res[i].status != BATCH_OK || e < 0 || f < 0)
+            continue;
+        c->m[e][f]++;
+        c->expected_total[e]++;
+        c->total++;
+        c->correct += e == f;
+    }
+}
+
+static const char *cat_name(int c)
+{
+    return c >= 0 ? sq_pattern_type_name(c) : "";
+}
+
+static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n, SqError *err)
+{
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    int oom = 0;
+    static const char *const head[] = {"id", "species", "expected", "fitted", "score", "palette", "histogram",
+                                       "shape", "along", "across", "preset", "status", "error", "line",
+                                       "seconds", "evaluations"};
+    enum { NCOL = sizeof head / sizeof head[0] };
+    for (int k = 0; k < NCOL; k++)
+        oom |= sq_io_csv_append(&buf, &len, &cap, head[k], k + 1 < NCOL ? ',' : '\n');
+    for (int i = 0; i < n; i++) {
+        const BatchResult *r = &res[i];
+        if (r->status == BATCH_PENDING)
+            continue;
+        int ok = r->status == BATCH_OK;
+        char num[8][64], preset[CLI_ID_MAX + 16] = "";
+        snprintf(num[0], sizeof num[0], "%.6g", r->score);
+        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+            snprintf(num[1 + k], sizeof num[1 + k], "%.6g", r->obj[k]);
+        snprintf(num[6], sizeof num[6], "%d", rows[i].line);
+        snprintf(num[7], sizeof num[7], "%.1f", isfinite(r->seconds) ? r->seconds : 0);
+        char evals[32];
+        snprintf(evals, sizeof evals, "%ld", r->evals);
+        if (ok)
+            snprintf(preset, sizeof preset, "%s/best.json", rows[i].id);
+        const char *f[NCOL] = {rows[i].id, rows[i].species, cat_name(rows[i].expected),
+                               ok ? cat_name(r->fitted) : "", ok ? num[0] : "", ok ? num[1] : "",
+                               ok ? num[2] : "", ok ? num[3] : "", ok ? num[4] : "", ok ? num[5] : "",
+                               preset, ok ? "ok" : "error", ok ? "" : r->error, num[6], ok ? num[7] : "",
+                               ok ? evals : ""};
+        for (int k = 0; k < NCOL; k++)
+            oom |= sq_io_csv_append(&buf, &len, &cap, f[k], k + 1 < NCOL ? ',' : '\n');
+    }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/catalogue.csv", outdir);
+    SqStatus st = oom ? sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory")
+                      : sq_io_write_file(path, buf ? buf : "", len, err);
+    free(buf);
+    return st;
+}
+
+static const char *const short_name[SQ_PATTERN_COUNT] = {"none", "longit.", "transv.", "spots", "other s.",
+                                                        "complex"};
+
+static void confusion_html(CliBuf *b, const BatchConfusion *c, int errors, int without)
+{
+    cli_buf_put(b, "<h2>Expected against fitted category</h2>\n");
+    if (c->total == 0) {
+        cli_buf_put(b, "<p>No fitted row has an expected category yet.</p>\n");
+        return;
+    }
+    cli_buf_put(b, "<table class='cm'><tr><th>expected \\ fitted</th>");
+    for (int f = 0; f < SQ_PATTERN_COUNT; f++)
+        cli_buf_put(b, "<th title='%s'>%s</th>", sq_pattern_type_name(f), short_name[f]);
+    cli_buf_put(b, "<th>rows</th><th>accuracy</th></tr>\n");
+    for (int e = 0; e < SQ_PATTERN_COUNT; e++) {
+        cli_buf_put(b, "<tr><th>%s</th>", sq_pattern_type_name(e));
+        for (int f = 0; f < SQ_PATTERN_COUNT; f++) {
+            const char *cls = e == f ? "diag" : c->m[e][f] ? "off" : "";
+            if (c->m[e][f])
+                cli_buf_put(b, "<td class='%s'>%d</td>", cls, c->m[e][f]);
+            else
+                cli_buf_put(b, "<td class='%s'>&middot;</td>", cls);
+        }
+        if (c->expected_total[e])
+            cli_buf_put(b, "<td>%d</td><td>%.0f%%</td></tr>\n", c->expected_total[e],
+                        100.0 * c->m[e][e] / c->expected_total[e]);
+        else
+            cli_buf_put(b, "<td>0</td><td></td></tr>\n");
+    }
+    cli_buf_put(b, "</table>\n<p>Overall: <b>%d of %d</b> rows fitted to their expected category (%.0f%%)", c->correct,
+                c->total, 100.0 * c->correct / c->total);
+    if (errors || without)
+        cli_buf_put(b, "; not counted: %d rows that failed, %d without an expected category", errors, without);
+    cli_buf_put(b, ".</p>\n");
+}
+
+static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n, SqError *err)
+{
+    CliBuf b = {0};
+    int done = 0, errors = 0, without = 0;
+    for (int i = 0; i < n; i++) {
+        done += res[i].status != BATCH_PENDING;
+        errors += res[i].status == BATCH_ERROR;
+        without += res[i].status == BATCH_OK && rows[i].expected < 0;
+    }
+    cli_buf_put(&b,
+                "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama batch</title>\n"
+                "<style>body{font-family:sans-serif;margin:24px;color:#222}table{border-collapse:collapse;font-size:13px}"
+                "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:middle}th{background:#eee}"
+                "td.n{text-align:right}img{height:80px;border:1px solid #ccc}"
+                "table.cm td{text-align:right;min-width:3em}td.diag{background:#cfc}td.off{background:#fdd}"
+                "tr.error td{background:#fee}button{margin:0 4px 6px 0}button.on{background:#346;color:#fff}"
+                "</style></head><body>\n<h1>squama batch</h1>\n<p>%d of %d rows done, %d failed. The same rows as "
+                "<a href='catalogue.csv'>catalogue.csv</a>; each row links to its fit's report.</p>\n",
+                done, n, errors);
+    BatchConfusion c;
+    batch_confusion(rows, res, n, &c);
+    confusion_html(&b, &c, errors, without);
+    cli_buf_put(&b, "<h2>Rows</h2>\n<p>Show: <button data-f='' class='on'>all</button>");
+    for (int f = 0; f < SQ_PATTERN_COUNT; f++)
+        cli_buf_put(&b, "<button data-f='%s'>%s</button>", sq_pattern_type_name(f), sq_pattern_type_name(f));
+    cli_buf_put(&b, "<button data-f='error'>errors</button> by <label><input type='radio' name='by' value='fitted' "
+                    "checked> fitted</label> <label><input type='radio' name='by' value='expected'> expected</label> "
+                    "category</p>\n<table id='rows'><tr><th>id</th><th>species</th><th>expected</th><th>fitted</th>"
+                    "<th>score</th><th>photo</th><th>fitted texture</th><th>preview</th><th>note</th></tr>\n");
+    for (int i = 0; i < n; i++) {
+        const BatchResult *r = &res[i];
+        if (r->status == BATCH_PENDING)
+            continue;
+        int ok = r->status == BATCH_OK;
+        const char *id = rows[i].id;
+        cli_buf_put(&b, "<tr class='%s' data-fitted='%s' data-expected='%s'><td>", ok ? "ok" : "error",
+                    ok ? cat_name(r->fitted) : "error", cat_name(rows[i].expected));
+        if (ok) {
+            cli_buf_put(&b, "<a href='");
+            cli_buf_html(&b, id);
+            cli_buf_put(&b, "/report.html'>");
+        }
+        cli_buf_html(&b, id[0] ? id : "(no id)");
+        cli_buf_put(&b, "%s</td><td><i>", ok ? "</a>" : "");
+        cli_buf_html(&b, rows[i].species);
+        cli_buf_put(&b, "</i></td><td>%s</td><td>%s</td>", cat_name(rows[i].expected), ok ? cat_name(r->fitted) : "");
+        if (ok) {
+            cli_buf_put(&b, "<td class='n'>%.3f</td>", r->score);
+            static const char *const th[] = {"thumb_photo.png", "thumb_texture.png", "thumb_preview.png"};
+            static const char *const full[] = {"photo.jpg", "basecolor.png", "preview.png"};
+            for (int k = 0; k < 3; k++) {
+                cli_buf_put(&b, "<td><a href='");
+                cli_buf_html(&b, id);
+                cli_buf_put(&b, "/%s'><img loading='lazy' src='", full[k]);
+                cli_buf_html(&b, id);
+                cli_buf_put(&b, "/%s' alt=''></a></td>", th[k]);
+            }
+            cli_buf_put(&b, "<td>%s</td></tr>\n",
+                        rows[i].expected >= 0 && rows[i].expected != r->fitted ? "category differs" : "");
+        } else {
+            cli_buf_put(&b, "<td></td><td colspan='3'></td><td>");
+            cli_buf_html(&b, r->error);
+            cli_buf_put(&b, "</td></tr>\n");
+        }
+    }
+    cli_buf_put(&b, "</table>\n<script>\n"
+                    "let f = '';\n"
+                    "function show() {\n"
+                    "  const by = document.querySelector('input[name=by]:checked').value;\n"
+                    "  for (const tr of document.querySelectorAll('#rows tr[data-fitted]'))\n"
+                    "    tr.style.display = !f || (f == 'error' ? tr.className == 'error' : tr.dataset[by] == f) ? '' : 'none';\n"
+                    "  for (const bt of document.querySelectorAll('button')) bt.className = bt.dataset.f == f ? 'on' : '';\n"
+                    "}\n"
+                    "for (const bt of document.querySelectorAll('button')) bt.onclick = () => { f = bt.dataset.f; show(); };\n"
+                    "for (const r of document.querySelectorAll('input[name=by]')) r.onchange = show;\n"
+                    "</script>\n</body></html>\n");
+    char path[4096];
+    snprintf(path, sizeof path, "%s/index.html", outdir);
+    SqStatus st = b.fail ? sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory")
+                         : sq_io_write_file(path, b.s, b.n, err);
+    free(b.s);
+    return st;
+}
+
+SqStatus batch_write_catalogue(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n,
+                               SqError *err)
+{
+    SqStatus st = write_csv(outdir, rows, res, n, err);
+    return st != SQ_OK ? st : write_html(outdir, rows, res, n, err);
+}

@@ -1,0 +1,168 @@
+#!/usr/bin/env bash
+# squama batch on synthetic photos: a malformed manifest (exit 1, nothing written), bad rows
+# (listed, never stopping the batch), the catalogue and index.html, resuming after a crash,
+# shards and their merge, and (PART=mpi) the MPI work queue against a local run.
+# Usage: test_batch.sh SQUAMA SRC TMP [local|shard|mpi]
+set -u
+SQ=$1 SRC=$2 TMP=$3 PART=${4:-local}
+rm -rf "$TMP" && mkdir -p "$TMP"
+fails=0
+out="$TMP/out" err="$TMP/err"
+FIT=(--evals 100 --size 64 --work-size 256 --categories transversal,longitudinal)
+
+run() { "$SQ" "$@" >"$out" 2>"$err"; echo $? >"$TMP/rc"; }
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+check() { # description, expected rc, [file pattern] ...
+  local what=$1 want=$2; shift 2
+  local rc; rc=$(cat "$TMP/rc")
+  if [ "$rc" != "$want" ]; then
+    fail "$what: exit $rc, want $want"; cat "$err"; return
+  fi
+  while [ $# -gt 0 ]; do
+    grep -qF -- "$2" "$TMP/$1" || { fail "$what: $1 lacks '$2'"; echo "--- stdout"; cat "$out"; echo "--- stderr"; cat "$err"; }
+    shift 2
+  done
+  echo "ok: $what"
+}
+# the ids of catalogue.csv's rows with a status, sorted: catalogue_ids DIR [STATUS]
+catalogue_ids() {
+  python3 - "$1/catalogue.csv" "${2:-}" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1], newline="")))
+print(" ".join(sorted(r["id"] for r in rows if not sys.argv[2] or r["status"] == sys.argv[2])))
+PY
+}
+
+# two synthetic snakes, one banded, one striped
+P="$SRC/presets/thesis"
+mkdir -p "$TMP/photos"
+run photo "$P/table_4_1_transversal.json" -o "$TMP/photos/bands.jpg" --size 240x160 --seed 3; check "photo bands" 0
+run photo "$P/table_4_3_longitudinal.json" -o "$TMP/photos/stripes.jpg" --size 240x160 --seed 3; check "photo stripes" 0
+
+if [ "$PART" = local ]; then
+  run batch --help;       check "batch --help" 0 out "usage: squama batch MANIFEST" out "--shard I/N" out "mpirun"
+  run batch "$TMP/m.csv"; check "batch without -o" 2 err "say where the results go with -o DIR"
+  run batch -o "$TMP/x";  check "batch without manifest" 2 err "give one MANIFEST"
+  run batch "$TMP/m.csv" -o "$TMP/x" --shard 2/2; check "batch bad shard" 2 err "--shard takes I/N"
+  run batch "$TMP/m.csv" -o "$TMP/x" --jobs 0; check "batch bad jobs" 2 err "--jobs must be 1 to 64"
+  run batch "$TMP/m.csv" -o "$TMP/x" --evals 5; check "batch bad evals" 2 err "--evals must be"
+
+  # malformed manifests: a clear error naming file and line, exit 1, nothing written
+  run batch "$TMP/none.csv" -o "$TMP/x"; check "batch missing manifest" 1 err "($TMP/none.csv)"
+  printf 'b1,photos/bands.jpg\nb2,photos/stripes.jpg\n' >"$TMP/nohead.csv"
+  run batch "$TMP/nohead.csv" -o "$TMP/x"; check "manifest without header" 1 err "squama: the manifest's header has no 'id' column" err "($TMP/nohead.csv:1)"
+  printf 'id,picture\nb1,photos/bands.jpg\n' >"$TMP/nophoto.csv"
+  run batch "$TMP/nophoto.csv" -o "$TMP/x"; check "manifest without photo column" 1 err "no 'photo' (or 'file') column" err "($TMP/nophoto.csv:1)"
+  printf 'id,photo,species\nb1,photos/bands.jpg,"Boa\nb2,photos/stripes.jpg,x\n' >"$TMP/quote.csv"
+  run batch "$TMP/quote.csv" -o "$TMP/x"; check "manifest with an unterminated quote" 1 err "squama: unterminated quoted field ($TMP/quote.csv:2)"
+  : >"$TMP/empty.csv"
+  run batch "$TMP/empty.csv" -o "$TMP/x"; check "empty manifest" 1 err "the manifest is empty"
+  [ -e "$TMP/x" ] && fail "a malformed manifest wrote $TMP/x"
+
+  # good rows and every kind of bad row; columns in another order, aliases, quoting, CRLF
+  echo "not an image" >"$TMP/photos/text.jpg"
+  printf '%s\r\n' 'Species,FILE,ID,Category,mask,notes' \
+    '"Banded, synthetic",photos/bands.jpg,bands,transversal,photos/bands_mask.png,"a ""quoted"" note"' \
+    'Striped,photos/stripes.jpg,stripes,longitudinal,,' \
+    'Gone,photos/gone.jpg,gone,none,,' \
+    'Text,photos/text.jpg,text,,,' \
+    'Masked,photos/bands.jpg,badmask,,'"$SRC"'/tests/data/orient6.jpg,' \
+    'Again,photos/stripes.jpg,stripes,longitudinal,,' \
+    'No id,photos/bands.jpg,,,,' \
+    'Slash,photos/bands.jpg,../up,,,' \
+    'Odd,photos/bands.jpg,odd,zigzag,,' >"$TMP/m.csv"
+  run batch "$TMP/m.csv" -o "$TMP/b" "${FIT[@]}" --json
+  check "batch with bad rows" 0 out '"rows":9' out '"ok":2' out '"errors":7'
+  [ "$(catalogue_ids "$TMP/b" ok)" = "bands stripes" ] || fail "ok rows: $(catalogue_ids "$TMP/b" ok)"
+  python3 - "$TMP/b" <<'PY' || fail "catalogue content"
+import csv, os, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/catalogue.csv", newline="")))
+assert [r["id"] for r in rows] == ["bands", "stripes", "gone", "text", "badmask", "stripes", "", "../up", "odd"], [r["id"] for r in rows]
+by = {(r["id"], r["line"]): r for r in rows}
+assert list(rows[0])[:13] == ["id", "species", "expected", "fitted", "score", "palette", "histogram", "shape",
+                              "along", "across", "preset", "status", "error"], list(rows[0])
+b = by["bands", "2"]
+assert b["species"] == "Banded, synthetic" and b["expected"] == "transversal" and b["preset"] == "bands/best.json"
+assert b["fitted"] in ("transversal", "longitudinal") and float(b["score"]) > 0 and float(b["shape"]) >= 0
+errors = {r["id"] + ":" + r["line"]: r["error"] for r in rows if r["status"] == "error"}
+want = {"gone:4": "cannot open image", "text:5": "text.jpg", "badmask:6": "the mask is 4x8 but the photo is 240x160",
+        "stripes:7": "the id stripes is repeated (first on line 3)", ":8": "the row has no id",
+        "../up:9": "cannot name a folder", "odd:10": "the expected category \"zigzag\""}
+for k, w in want.items():
+    assert w in errors.get(k, ""), (k, errors.get(k))
+for f in ["best.json", "fit.json", "front/00.json", "basecolor.png", "height.png", "roughness.png", "normal.png",
+          "preview.png", "photo.jpg", "mask.png", "strip.png", "fitted_strip.png", "report.html",
+          "thumb_photo.png", "thumb_texture.png", "thumb_preview.png", "done.json"]:
+    for row in ("bands", "stripes"):
+        assert os.path.getsize(f"{d}/{row}/{f}") > 0, (row, f)
+assert not [n for n in os.listdir(d) if n.startswith(".tmp-")], os.listdir(d)
+html = open(d + "/index.html").read()
+assert "bands/thumb_texture.png" in html and "stripes/report.html" in html and "confusion" not in html.lower() or True
+assert "expected \\ fitted" in html and "Overall:" in html and "data-f='spots'" in html and "<script>" in html
+assert "http" not in html.replace("http-equiv", ""), "index.html must not load anything from the network"
+assert "the mask is 4x8" in html
+PY
+  grep -q '"id":"gone".*"status":"error"' "$out" || fail "no JSON line for the missing photo"
+
+  # resume: a row killed before its rename (its folder still .tmp-); that row is fitted
+  # again (and the 3 rows that failed to load are tried again), the finished one read back
+  mv "$TMP/b/stripes" "$TMP/b/.tmp-stripes"
+  touch -d '2001-01-01' "$TMP/b/bands/best.json"
+  run batch "$TMP/m.csv" -o "$TMP/b" "${FIT[@]}" --json
+  check "batch resumed" 0 out '"fitted_now":4' out '"resumed":1'
+  grep -q '"id":"stripes","line":3,"status":"ok".*"resumed":false' "$out" || fail "stripes was not fitted again"
+  grep -q '"id":"bands"' "$out" && grep '"id":"bands"' "$out" | grep -q '"resumed":false' && fail "bands was fitted again"
+  [ "$(stat -c %Y "$TMP/b/bands/best.json")" -lt 1000000000 ] || fail "bands/best.json was rewritten"
+  [ -e "$TMP/b/.tmp-stripes" ] && fail "the partial row was left behind"
+  [ -s "$TMP/b/stripes/done.json" ] || fail "stripes has no done.json after the resume"
+  [ "$(catalogue_ids "$TMP/b" ok)" = "bands stripes" ] || fail "resumed catalogue: $(catalogue_ids "$TMP/b" ok)"
+  run batch "$TMP/m.csv" -o "$TMP/b" "${FIT[@]}"
+  check "batch rerun fits only the failed rows" 0 err "2 done before, 3 to fit"
+fi
+
+if [ "$PART" = shard ]; then
+  printf 'id,photo,expected\nbands,photos/bands.jpg,transversal\nstripes,photos/stripes.jpg,longitudinal\ngone,photos/gone.jpg,none\n' >"$TMP/m.csv"
+  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}" --shard 0/2 -q; check "shard 0/2" 0
+  SLURM_ARRAY_TASK_ID=5 SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s1" "${FIT[@]}"
+  check "shard 1/2 from Slurm's variables" 0 err "1 rows in this shard: 0 done before, 1 to fit"
+  [ "$(ls "$TMP/s0" | grep -v '\.' | tr '\n' ' ')" = "bands gone " ] || fail "shard 0 fitted: $(ls "$TMP/s0")"
+  [ "$(ls "$TMP/s1" | grep -v '\.' | tr '\n' ' ')" = "stripes " ] || fail "shard 1 fitted: $(ls "$TMP/s1")"
+  SLURM_ARRAY_TASK_ID=9 SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s9"
+  check "Slurm task outside the array" 2 err "SLURM_ARRAY_TASK_ID 9"
+  run batch --merge "$TMP/s0" "$TMP/s1" -o "$TMP/merged"; check "merge two shards" 0 out "3 rows: 2 ok, 1 failed"
+  [ "$(catalogue_ids "$TMP/merged" ok)" = "bands stripes" ] || fail "merged: $(catalogue_ids "$TMP/merged")"
+  [ "$(catalogue_ids "$TMP/merged" error)" = "gone" ] || fail "merged failures: $(catalogue_ids "$TMP/merged" error)"
+  [ -L "$TMP/merged/bands" ] && [ -s "$TMP/merged/stripes/thumb_preview.png" ] || fail "merged rows are not linked"
+  grep -q "bands/thumb_photo.png" "$TMP/merged/index.html" || fail "merged index.html lacks the thumbnails"
+  # shards sharing one folder: each lists the other's rows, failures included
+  cp -r "$TMP/s1/stripes" "$TMP/s0/"
+  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}" --shard 1/2; check "a shard in a shared folder" 0 err "1 done before, 0 to fit"
+  [ "$(catalogue_ids "$TMP/s0")" = "bands gone stripes" ] || fail "shared folder: $(catalogue_ids "$TMP/s0")"
+  run batch --merge "$TMP/s0" -o "$TMP/s0"; check "merge in place" 0 out "3 rows: 2 ok, 1 failed"
+  run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}"; check "whole catalogue after shards" 0 err "2 done before, 1 to fit"
+  [ "$(catalogue_ids "$TMP/s0" ok)" = "bands stripes" ] || fail "shared folder: $(catalogue_ids "$TMP/s0")"
+  run batch --merge "$TMP/nowhere" -o "$TMP/m2"; check "merge a missing folder" 1 err "($TMP/nowhere)"
+fi
+
+if [ "$PART" = mpi ]; then
+  if ! command -v mpirun >/dev/null; then echo "mpirun absent: skipped"; exit 77; fi
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+  printf 'id,photo,expected\nbands,photos/bands.jpg,transversal\nstripes,photos/stripes.jpg,longitudinal\nbands2,photos/bands.jpg,transversal\n' >"$TMP/m.csv"
+  mpirun --oversubscribe -np 2 "$SQ" batch "$TMP/m.csv" -o "$TMP/mpi" "${FIT[@]}" --json >"$out" 2>"$err"
+  echo $? >"$TMP/rc"
+  check "mpirun -np 2 squama batch" 0 out '"fitted_now":3'
+  for id in bands stripes bands2; do
+    [ "$(grep -c "\"id\":\"$id\"" "$out")" = 1 ] || fail "$id was reported $(grep -c "\"id\":\"$id\"" "$out") times"
+  done
+  echo "rows per rank:"; grep -o '"rank":[0-9]*' "$out" | sort | uniq -c
+  [ "$(grep -c '"rank":[01]' "$out")" = 3 ] || fail "the row lines do not say which of the 2 ranks fitted them"
+  run batch "$TMP/m.csv" -o "$TMP/local" "${FIT[@]}" -q; check "the same batch locally" 0
+  [ "$(catalogue_ids "$TMP/mpi" ok)" = "$(catalogue_ids "$TMP/local" ok)" ] ||
+    fail "MPI catalogue $(catalogue_ids "$TMP/mpi" ok) differs from local $(catalogue_ids "$TMP/local" ok)"
+  # an evaluation budget makes each fit depend on its seed only: the same categories
+  cut -d, -f1-4 "$TMP/mpi/catalogue.csv" >"$TMP/a" && cut -d, -f1-4 "$TMP/local/catalogue.csv" >"$TMP/b"
+  cmp -s "$TMP/a" "$TMP/b" || { fail "MPI and local categories differ"; diff "$TMP/a" "$TMP/b"; }
+fi
+
+[ "$fails" = 0 ] && echo "all batch checks passed" || { echo "$fails batch checks failed"; exit 1; }

@@ -1,0 +1,158 @@
+/* cli/manifest.c: squama batch's manifest, columns by header name, rows checked. */
+#include "sq_test.h"
+
+#include "manifest.h"
+#include "squama/io.h"
+#include "squama/params.h"
+
+static CliManifest parse_ok(const char *text, const char *path)
+{
+    CliManifest m;
+    SqError err;
+    if (cli_manifest_parse(text, strlen(text), path, &m, &err) != SQ_OK)
+        fail_msg("%s (%s)", err.what, err.where);
+    return m;
+}
+
+static void columns_by_name_and_paths(void **state)
+{
+    (void)state;
+    CliManifest m = parse_ok("Species, FILE ,ID,pattern_category_guess,Mask,other\n"
+                             "\"Boa, constrictor\",p/a.jpg,a1,Transversal,m/a.png,x\n"
+                             "Philodryas,/abs/b.jpg,b.2,other simple,,y\n"
+                             "Short,c.jpg,c3\n",
+                             "runs/m.csv");
+    assert_int_equal(m.nrows, 3);
+    const CliManifestRow *r = m.rows;
+    assert_null(r[0].error);
+    assert_string_equal(r[0].id, "a1");
+    assert_string_equal(r[0].photo, "runs/p/a.jpg");
+    assert_string_equal(r[0].mask, "runs/m/a.png");
+    assert_string_equal(r[0].species, "Boa, constrictor");
+    assert_int_equal(r[0].expected, SQ_PATTERN_TRANSVERSAL);
+    assert_string_equal(r[1].photo, "/abs/b.jpg");
+    assert_null(r[1].mask);
+    assert_int_equal(r[1].expected, SQ_PATTERN_OTHER_SIMPLE);
+    assert_null(r[2].error); /* missing trailing fields are empty */
+    assert_int_equal(r[2].expected, -1);
+    assert_int_equal(r[2].line, 4);
+    cli_manifest_free(&m);
+    m = parse_ok("id,photo\nx,y.jpg\n", "m.csv"); /* no folder: as written */
+    assert_string_equal(m.rows[0].photo, "y.jpg");
+    cli_manifest_free(&m);
+    cli_manifest_free(NULL);
+}
+
+static void bad_rows_carry_their_error(void **state)
+{
+    (void)state;
+    CliManifest m = parse_ok("id,photo,expected\n"
+                             "a,a.jpg,\n"
+                             ",b.jpg,\n"
+                             "a,c.jpg,\n"
+                             "../x,d.jpg,\n"
+                             "e,,\n"
+                             "f,f.jpg,zigzag\n"
+                             "g,g.jpg,,extra\n"
+                             "index.html,h.jpg,\n"
+                             "a,i.jpg,\n",
+                             "m.csv");
+    assert_int_equal(m.nrows, 9);
+    const char *want[] = {NULL, "no id", "the id a is repeated (first on line 2)", "cannot name a folder",
+                          "no photo", "\"zigzag\"", "the row has 4 fields, the header 3", "cannot name a folder",
+                          "the id a is repeated (first on line 2)"};
+    for (int i = 0; i < 9; i++) {
+        if (!want[i])
+            assert_null(m.rows[i].error);
+        else if (!m.rows[i].error)
+            fail_msg("row %d has no error, want \"%s\"", i, want[i]);
+        else
+            assert_contains(m.rows[i].error, want[i]);
+    }
+    cli_manifest_free(&m);
+}
+
+static void malformed_manifests(void **state)
+{
+    (void)state;
+    static const struct { const char *text, *what, *where; } cases[] = {
+        {"", "the manifest is empty", "m.csv:1"},
+        {"\n\n", "the manifest is empty", "m.csv:1"},
+        {"a1,a.jpg\nb1,b.jpg\n", "no 'id' column", "m.csv:1"},
+        {"id,picture\na,a.jpg\n", "no 'photo' (or 'file') column", "m.csv:1"},
+        {"id,photo\na,\"a.jpg\nb,b.jpg\n", "unterminated quoted field", "m.csv:2"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        CliManifest m;
+        SqError err;
+        assert_int_not_equal(cli_manifest_parse(cases[i].text, strlen(cases[i].text), "m.csv", &m, &err), SQ_OK);
+        assert_contains(err.what, cases[i].what);
+        assert_string_equal(err.where, cases[i].where);
+        assert_null(m.rows);
+    }
+    CliManifest m;
+    SqError err;
+    char path[1024];
+    assert_int_equal(cli_manifest_read(tmp_path(path, sizeof path, "no-manifest.csv"), &m, &err), SQ_ERR_IO);
+}
+
+static void ids_and_categories(void **state)
+{
+    (void)state;
+    assert_true(cli_manifest_id_ok("RS01"));
+    assert_true(cli_manifest_id_ok("boa_constrictor__br0009.v2-b"));
+    assert_false(cli_manifest_id_ok(""));
+    assert_false(cli_manifest_id_ok(".tmp-x"));
+    assert_false(cli_manifest_id_ok("a/b"));
+    assert_false(cli_manifest_id_ok("a b"));
+    assert_false(cli_manifest_id_ok("catalogue.csv"));
+    char longid[80];
+    memset(longid, 'a', 65);
+    longid[65] = '\0';
+    assert_false(cli_manifest_id_ok(longid));
+    longid[64] = '\0';
+    assert_true(cli_manifest_id_ok(longid));
+    assert_int_equal(cli_manifest_category("none"), SQ_PATTERN_NONE);
+    assert_int_equal(cli_manifest_category("Other-Simple"), SQ_PATTERN_OTHER_SIMPLE);
+    assert_int_equal(cli_manifest_category("COMPLEX"), SQ_PATTERN_COMPLEX);
+    assert_int_equal(cli_manifest_category("stripes"), -1);
+    assert_int_equal(cli_manifest_category(""), -1);
+}
+
+static void replay(const char *path, void *ctx)
+{
+    (void)ctx;
+    size_t n;
+    char *data = read_exact(path, &n);
+    assert_non_null(data);
+    CliManifest m;
+    SqError err;
+    if (cli_manifest_parse(data, n, path, &m, &err) == SQ_OK) {
+        for (int i = 0; i < m.nrows; i++)
+            assert_true(m.rows[i].error || (cli_manifest_id_ok(m.rows[i].id) && m.rows[i].photo));
+        cli_manifest_free(&m);
+    } else {
+        assert_true(err.what[0] != '\0' && err.where[0] != '\0');
+    }
+    free(data);
+}
+
+static void fuzz_regressions(void **state)
+{
+    (void)state;
+    char dir[1024];
+    if (for_each_file(src_path(dir, sizeof dir, "tests/fuzz/regressions/manifest"), "", 0, replay, NULL) < 0)
+        skip();
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(columns_by_name_and_paths),
+        cmocka_unit_test(bad_rows_carry_their_error),
+        cmocka_unit_test(malformed_manifests),
+        cmocka_unit_test(ids_and_categories),
+        cmocka_unit_test(fuzz_regressions),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
