@@ -352,6 +352,10 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
             return cli_usage(cmd, "--categories is too long");
         snprintf(list, sizeof list, "%s", arg);
         for (char *save = NULL, *name = strtok_r(list, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
+            if (strcmp(name, "all") == 0) {
+                fo->categories |= SQ_FIT_ALL_KINDS;
+                continue;
+            }
             int found = -1;
             for (int k = 0; k < SQ_FIT_KINDS; k++)
                 if (strcmp(name, sq_fit_kind_name(k)) == 0)
@@ -359,7 +363,7 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
             if (found < 0)
                 return cli_usage(cmd,
                                  "--categories takes kinds among none, longitudinal, transversal, "
-                                 "spots, other_simple, complex, layered; got '%s'",
+                                 "spots, other_simple, complex, layered, or all; got '%s'",
                                  name);
             fo->categories |= 1u << found;
         }

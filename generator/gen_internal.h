@@ -335,6 +335,29 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
  * (channel 1), interleaved. Returns -1 when out of memory. */
 int sq__scale_stamp(const SqParams *p, float *stamp, int s);
 
+/* The pixels a scale centred at (cx, cy), rx by ry pixels either side, covers in rows
+ * y0..y1 of a w-wide map: [*sx0, *sx1) x [*sy0, *sy1). A belly scale at the seam (role
+ * bit 1: left end, bit 2: right end) stops at its tile's edge. 0 when it covers none. */
+static inline int sq__stamp_footprint(double cx, double cy, double rx, double ry, int role, int w, int y0, int y1,
+                                      int *sx0, int *sx1, int *sy0, int *sy1)
+{
+    *sy0 = (int)floor(cy - ry);
+    *sy1 = (int)ceil(cy + ry);
+    if (*sy0 < y0) *sy0 = y0;
+    if (*sy1 > y1) *sy1 = y1;
+    double xmin = cx - rx, xmax = cx + rx;
+    const double tile = floor(cx / w) * w;
+    if (role & 1)
+        xmin = tile;
+    if (role & 2)
+        xmax = tile + w;
+    *sx0 = (int)floor(xmin);
+    *sx1 = (int)ceil(xmax);
+    if (*sx0 < 0) *sx0 = 0;
+    if (*sx1 > w) *sx1 = w;
+    return *sy0 < *sy1 && *sx0 < *sx1;
+}
+
 /* Paints the stamp (s x s, from sq__scale_stamp) at stamp coordinates X, Y (inside
  * (-1, 1) x (-1, 1); outside, nothing) over one pixel, front to back: *height gains the
  * stamp's bilinear height times its coverage under the transparency left, *clear, which

@@ -271,21 +271,8 @@ SqStatus sq__scales(const SqParams *p, float *height, float *scratch, int w, int
                 /* unwrapped centre, pixels */
                 const double cx = (u + (ii + m * half - c)) * colw;
                 const double cy = (v + (double)m * L.Y) * rowh;
-                int sy0 = (int)floor(cy - ry), sy1 = (int)ceil(cy + ry);
-                if (sy0 < y0) sy0 = y0;
-                if (sy1 > y1) sy1 = y1;
-                if (sy0 >= sy1)
-                    continue;
-                double xmin = cx - rx, xmax = cx + rx;
-                const double tile = floor(cx / w) * w;
-                if (role & 1)
-                    xmin = tile;
-                if (role & 2)
-                    xmax = tile + w;
-                int sx0 = (int)floor(xmin), sx1 = (int)ceil(xmax);
-                if (sx0 < 0) sx0 = 0;
-                if (sx1 > w) sx1 = w;
-                if (sx0 >= sx1)
+                int sx0, sx1, sy0, sy1;
+                if (!sq__stamp_footprint(cx, cy, rx, ry, role, w, y0, y1, &sx0, &sx1, &sy0, &sy1))
                     continue;
                 const uint64_t id = ((uint64_t)j * (uint64_t)L.X + (uint64_t)c) * 4;
                 const double size = 1.0 - p->Scales_SizeRandom * sq__rand01(L.seed, SQ_STREAM_SCALES, id + 2);

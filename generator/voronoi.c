@@ -576,26 +576,14 @@ static SqStatus paint(const SqParams *p, const Scale *sc, int n, const float *st
             const Scale *e = &sc[in[ii].k];
             const double cx = in[ii].cx, cy = in[ii].cy, rx = ext[2 * in[ii].k], ry = ext[2 * in[ii].k + 1];
             const int role = e->role;
-            int sy0 = (int)floor(cy - ry), sy1 = (int)ceil(cy + ry);
-            if (sy0 < y0) sy0 = y0;
-            if (sy1 > y1) sy1 = y1;
-            if (sy0 >= sy1)
-                continue;
-            double xmin = cx - rx, xmax = cx + rx;
-            const double tile = floor(cx / w) * w;
-            if (role & 1)
-                xmin = tile;
-            if (role & 2)
-                xmax = tile + w;
-            int sx0 = (int)floor(xmin), sx1 = (int)ceil(xmax);
-            if (sx0 < 0) sx0 = 0;
-            if (sx1 > w) sx1 = w;
-            if (sx0 >= sx1)
+            int sx0, sx1, sy0, sy1;
+            if (!sq__stamp_footprint(cx, cy, rx, ry, role, w, y0, y1, &sx0, &sx1, &sy0, &sy1))
                 continue;
             const float cs = (float)cos(e->th), sn = (float)sin(e->th);
             const float iax = (float)(SQ__LENS_HW / (e->hu * w)), iay = (float)(SQ__LENS_HH / (e->hv * h));
             const float half_s = 0.5f * (float)s;
             /* the stretch: 0 at the centre, 1 from 1 / BEND of the way to the tile's edge */
+            const double tile = floor(cx / w) * w;
             const float inv_l = (float)(1.0 / (tile - cx)), inv_r = (float)(1.0 / (tile + w - cx));
             const float sv_px = (float)(e->sv * h), iay_seam = (float)(SQ__LENS_HH / (e->shv * h));
             for (int y = sy0; y < sy1; y++) {

@@ -363,7 +363,8 @@ static int cmp_score(const void *a, const void *b)
 /* Whether the fit tries category c. */
 static int fitted(const SqFitOptions *o, int c)
 {
-    return c >= 0 && c < CATEGORIES && (o->categories == 0 || (o->categories >> c) & 1u);
+    const unsigned kinds = o->categories ? o->categories : SQ_FIT_DEFAULT_KINDS;
+    return c >= 0 && c < CATEGORIES && ((kinds >> c) & 1u);
 }
 
 static int ncategories(const SqFitOptions *o)
@@ -839,6 +840,10 @@ static void plain_twin(Fit *f)
     rescore(f, &twin, 1);
     if (!isfinite(twin.score))
         return;
+    SqFitCandidate *grown = realloc(r->front, sizeof *grown * (size_t)(r->nfront + 1)); /* room for it */
+    if (!grown)
+        return;
+    r->front = grown;
     int k = r->nfront < f->o.front_max ? r->nfront : r->nfront - 1;
     memmove(r->front + 1, r->front, sizeof *r->front * (size_t)k);
     r->front[0] = twin;

@@ -186,7 +186,7 @@ run fit --help;           check "fit --help" 0 out "usage: squama fit" out "repo
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png"; check "fit without -o" 2 err "say where the results go"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --budget soon; check "fit bad budget" 2 err "--budget"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --method simplex; check "fit bad method" 2 err "simplex"
-run fit "$TMP/p.jpg" -o "$TMP/fx" --categories spots,stripes; check "fit bad kind" 2 err "layered; got 'stripes'"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --categories spots,stripes; check "fit bad kind" 2 err "layered, or all; got 'stripes'"
 run fit "$TMP/none.jpg" -o "$TMP/fx" --evals 100; check "fit missing photo" 1 err "cannot open image"
 [ -e "$TMP/fx/best.json" ] && { echo "FAIL: a failed fit wrote best.json"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 64 -j 2

@@ -165,13 +165,13 @@ static void an_invisible_pattern_is_a_plain_skin(void **state)
     sq_fit_result_free(&r);
 }
 
-/* By default every category is screened and evolved, reaction-diffusion included; a
- * category mask keeps the fit to the ones named. */
+/* Every kind can be screened and evolved, reaction-diffusion and layered skins included;
+ * by default the six categories are; a mask keeps the fit to the kinds named. */
 static void categories_fitted(void **state)
 {
     (void)state;
     SqFitOptions o = small(2);
-    o.categories = 0;
+    o.categories = SQ_FIT_ALL_KINDS;
     o.max_evals = 200;
     SqFitResult r;
     SqError err;
@@ -181,6 +181,12 @@ static void categories_fitted(void **state)
         assert_true(r.niche[c]);
     }
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    sq_fit_result_free(&r);
+    o.categories = 0; /* the default: the six categories, no layered skins */
+    assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
+        assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
+    assert_int_equal(r.best.params.Pattern_Layers.count, 0);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);

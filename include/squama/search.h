@@ -196,6 +196,12 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
  * searches the pair of its best screened candidate). */
 enum { SQ_FIT_LAYERED = SQ_PATTERN_COUNT, SQ_FIT_KINDS };
 
+/* The kinds a fit searches unless told otherwise: the six categories. Layered skins only
+ * on request (SqFitOptions.categories): in the recovery benchmark they won on photos of
+ * stripes, spots and reaction-diffusion, as impostors, more often than anything else. */
+#define SQ_FIT_DEFAULT_KINDS ((1u << SQ_PATTERN_COUNT) - 1u)
+#define SQ_FIT_ALL_KINDS ((1u << SQ_FIT_KINDS) - 1u)
+
 /* A preset's kind: SQ_FIT_LAYERED when it has pattern layers, else its pattern type. */
 int sq_fit_kind_of(const SqParams *p);
 
@@ -237,7 +243,8 @@ typedef struct SqFitOptions {
     int coarse_size;         /* render size while screening and evolving (128) */
     int fine_size;           /* render size when re-scoring and polishing (256) */
     int screen;              /* random candidates per category (48) */
-    unsigned categories;     /* bit k set: kind k is fitted (SQ_FIT_KINDS bits); 0: every kind */
+    unsigned categories;     /* bit k set: kind k is fitted (SQ_FIT_KINDS bits); 0: the
+                                default kinds, SQ_FIT_DEFAULT_KINDS */
     int niches;              /* kinds left evolving after the racing (2) */
     int reseeds;             /* seeds the finalists are re-scored over (4) */
     int front_max;           /* largest front kept (24) */
