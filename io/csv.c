@@ -205,7 +205,8 @@ int sq_io_csv_append(char **buf, size_t *len, size_t *cap, const char *field, ch
         *buf = p;
         *cap = c;
     }
-    int quote = strpbrk(field, ",\"\r\n") != NULL;
+    /* a field that starts with a byte-order mark is quoted: first in a file, the reader would drop the mark */
+    int quote = strpbrk(field, ",\"\r\n") != NULL || strncmp(field, "\xEF\xBB\xBF", 3) == 0;
     char *o = *buf + *len;
     if (quote)
         *o++ = '"';
