@@ -91,6 +91,12 @@ def compare(args, truth, view_t, fitted, photo, mask, norm):
     return json.loads(out.stdout)
 
 
+def blame(row):
+    """Whose fault a wrong category is: the fitness's when the fit scores better against the
+    photo than the truth itself (more search cannot help), else the search's."""
+    return "fitness" if row["photo_fit"] < row["photo_truth"] else "search"
+
+
 def fidelity(args, i, cat, photo, mask, truth, view_t):
     out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--view", "%.6f" % view_t, "--json", truth],
                          capture_output=True, text=True)
@@ -180,10 +186,13 @@ def main():
                 c = compare(args, truth, view_t, b, photo, mask, norm)
                 row["baselines"][m] = {"score": b["score"], "ratio": c["ratio"], "category": b["category"]}
         rows.append(row)
-        print("[%2d/%d] %-12s -> %-12s dE00 %5.2f  ratio %5.2f  view %.2f/%.2f  %d evals  %s  (%.0f min)" %
+        print("[%2d/%d] %-12s -> %-12s dE00 %5.2f  ratio %5.2f  view %.2f/%.2f  %d evals  %s%s  (%.0f min)" %
               (i + 1, args.n, cat, sq["category"], row["palette_de00"], row["ratio"], view_t, sq["view_scale"],
                row["evals"], " ".join("%s %.2f" % (m, v["score"] / sq["score"]) for m, v in
-                                      row["baselines"].items()), (time.time() - t0) / 60),
+                                      row["baselines"].items()),
+               "" if row["fitted"] == cat else "  [%s: fit %.2f truth %.2f]" % (blame(row), row["photo_fit"],
+                                                                                row["photo_truth"]),
+               (time.time() - t0) / 60),
               file=sys.stderr, flush=True)
 
     if args.fidelity:
@@ -198,6 +207,12 @@ def main():
         acc = sum(r["fitted"] == r["category"] for r in rs) / len(rs)
         print("%-14s %3d %8.0f%% %10.2f %12.2f" % (cat, len(rs), 100 * acc, med([r["palette_de00"] for r in rs]),
                                                  med([r["ratio"] for r in rs])))
+    wrong = [r for r in rows if r["fitted"] != r["category"]]
+    if wrong:
+        fitness = sum(blame(r) == "fitness" for r in wrong)
+        print("\n%d wrong: %d where the fit scores better against the photo than the truth does (the fitness "
+              "prefers the wrong answer), %d where the search missed a better one" %
+              (len(wrong), fitness, len(wrong) - fitness))
     acc = sum(r["fitted"] == r["category"] for r in rows) / len(rows)
     result = ["n=%d" % len(rows), "budget=%s" % (("%devals" % args.evals) if args.evals else args.budget), "accuracy=%.3f" % acc,
               "de00_median=%.2f" % med([r["palette_de00"] for r in rows]),
