@@ -728,6 +728,21 @@ static void rescore_over(Fit *f, SqFitCandidate *c, int n, int seeds, int size, 
     free(t);
 }
 
+/* Drops the finalists met before (a niche's best is often in the archive too): the front
+ * would show it twice and the re-scoring pay for it twice. Keeps the order. */
+static int unique(SqFitCandidate *c, int n)
+{
+    int k = 0;
+    for (int i = 0; i < n; i++) {
+        int seen = 0;
+        for (int j = 0; j < k && !seen; j++)
+            seen = c[j].view_scale == c[i].view_scale && memcmp(&c[j].params, &c[i].params, sizeof c[i].params) == 0;
+        if (!seen)
+            c[k++] = c[i];
+    }
+    return k;
+}
+
 /* The finalists: over `reseeds` seeds at the fine size. */
 static void rescore(Fit *f, SqFitCandidate *c, int n)
 {
@@ -1290,6 +1305,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         for (int i = 0; i < f.narchive && i < room; i++)
             fin[nfin++] = f.archive[i];
     }
+    nfin = unique(fin, nfin);
     rescore(&f, fin, nfin);
     st = finish(&f, fin, nfin, err);
     if (st != SQ_OK)

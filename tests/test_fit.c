@@ -82,6 +82,9 @@ static void recovers_category(void **state)
         for (int j = 0; j < r.nfront; j++)
             if (j != i)
                 assert_false(sq_pareto_dominates(r.front[j].obj, r.front[i].obj, SQ_OBJ_COUNT));
+        for (int j = 0; j < i; j++) /* and each one once */
+            assert_false(r.front[j].view_scale == r.front[i].view_scale &&
+                         memcmp(&r.front[j].params, &r.front[i].params, sizeof r.front[i].params) == 0);
         assert_int_equal(sq_params_validate(&r.front[i].params, NULL), SQ_OK);
     }
     /* every category the generator makes was screened and evolved */
