@@ -1,5 +1,6 @@
 #define _XOPEN_SOURCE 700
 
+#include <ctype.h>
 #include <errno.h>
 #include <ftw.h>
 #include <math.h>
@@ -67,6 +68,40 @@ double cli_parse_time(const char *s)
     if (*end == 'h' && end[1] == 0)
         return 3600 * v;
     return *end ? -1 : v;
+}
+
+/* Right after strtol or strtod (errno 0 before): they skip leading spaces, stop at the first
+ * stray character and set ERANGE on overflow; an option's value is the number and nothing
+ * else. */
+static int whole_number(const char *arg, const char *end)
+{
+    return end != arg && *end == '\0' && !isspace((unsigned char)arg[0]) && errno != ERANGE;
+}
+
+int cli_parse_int(const char *opt, const char *arg, long lo, long hi, long *out, SqError *err)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(arg, &end, 10);
+    if (!whole_number(arg, end) || v < lo || v > hi) {
+        sq_error_set(err, SQ_ERR_INVALID, "", "%s must be %ld to %ld, got '%s'", opt, lo, hi, arg);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int cli_parse_real(const char *opt, const char *arg, double lo, double hi, double *out, SqError *err)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(arg, &end);
+    if (!whole_number(arg, end) || !isfinite(v) || !(v >= lo && v <= hi)) {
+        sq_error_set(err, SQ_ERR_INVALID, "", "%s must be %g to %g, got '%s'", opt, lo, hi, arg);
+        return -1;
+    }
+    *out = v;
+    return 0;
 }
 
 static int remove_one(const char *path, const struct stat *st, int flag, struct FTW *ftw)

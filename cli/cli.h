@@ -57,6 +57,14 @@ int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);
 /* A time: "60", "60s", "2m", "1.5m", "1h" -> seconds; -1 when malformed or not > 0. */
 double cli_parse_time(const char *s);
 
+/* An option's value, all of it, as a decimal integer in [lo, hi]: 0, or -1 with err (when
+ * not NULL) saying "<opt> must be <lo> to <hi>, got '<arg>'". Empty values, leading
+ * spaces, trailing characters and overflow are refused. */
+int cli_parse_int(const char *opt, const char *arg, long lo, long hi, long *out, SqError *err);
+
+/* The same for a real number in [lo, hi]; NaN and infinities are refused too. */
+int cli_parse_real(const char *opt, const char *arg, double lo, double hi, double *out, SqError *err);
+
 /* Where the shipped presets live: $SQUAMA_PRESETS, else the source tree's presets/. */
 const char *cli_presets_dir(void);
 

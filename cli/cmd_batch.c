@@ -312,6 +312,8 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
     b.rank = rank;
     cli_fit_job_init(&b.job);
     int c, jobs = 1, shard_i = 0, shard_n = 1, shard_given = 0, merging = 0;
+    long v;
+    SqError err;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "ho:b:s:j:q", opts, NULL)) != -1) {
@@ -321,13 +323,12 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
                 return taken;
             continue;
         }
-        char *end;
         switch (c) {
         case 'o': b.outdir = optarg; break;
         case O_JOBS:
-            jobs = (int)strtol(optarg, &end, 10);
-            if (*end || jobs < 1 || jobs > 64)
-                return cli_usage("batch", "--jobs must be 1 to 64, got '%s'", optarg);
+            if (cli_parse_int("--jobs", optarg, 1, 64, &v, &err) != 0)
+                return cli_usage("batch", "%s", err.what);
+            jobs = (int)v;
             break;
         case O_SHARD:
             if (!parse_shard(optarg, &shard_i, &shard_n))
@@ -364,7 +365,6 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
     }
     cli_fit_job_options_done(&b.job);
     const char *manifest = argv[optind];
-    SqError err;
     CliManifest m;
     if (cli_manifest_read(manifest, &m, &err) != SQ_OK)
         return cli_fail(&err);

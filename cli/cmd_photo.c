@@ -50,16 +50,6 @@ static void sibling(const char *photo, const char *suffix, char *out, size_t n)
     strncat(out, suffix, n - strlen(out) - 1);
 }
 
-static int parse_double(const char *s, double lo, double hi, double *out)
-{
-    char *end;
-    double v = strtod(s, &end);
-    if (*end || end == s || !(v >= lo && v <= hi))
-        return 0;
-    *out = v;
-    return 1;
-}
-
 static char *truth_json(const char *preset_path, const SqParams *p, const SqPhotoOptions *o,
                         const SqPhotoTruth *t, SqError *err)
 {
@@ -122,21 +112,21 @@ int cmd_photo(int argc, char **argv)
             if (!cli_parse_size(optarg, 64, 8192, &po.width, &po.height))
                 return cli_usage("photo", "--size must be WxH with sides from 64 to 8192, got '%s'", optarg);
             break;
-        case O_SEED:
-            if (!parse_double(optarg, 0, 4294967295.0, &v) || v != (double)(unsigned)v)
+        case O_SEED: /* unsigned: as a real, 0 to 2^32 - 1 whatever the width of long */
+            if (cli_parse_real("--seed", optarg, 0, 4294967295.0, &v, NULL) != 0 || v != (double)(unsigned)v)
                 return cli_usage("photo", "--seed must be an integer >= 0, got '%s'", optarg);
             po.seed = (unsigned)v;
             break;
         case O_SCALE:
-            if (!parse_double(optarg, 0.05, 20, &po.view_scale))
+            if (cli_parse_real("--scale", optarg, 0.05, 20, &po.view_scale, NULL) != 0)
                 return cli_usage("photo", "--scale must be in [0.05, 20], got '%s'", optarg);
             break;
         case O_RADIUS:
-            if (!parse_double(optarg, 4, 2000, &po.body_radius))
+            if (cli_parse_real("--radius", optarg, 4, 2000, &po.body_radius, NULL) != 0)
                 return cli_usage("photo", "--radius must be in [4, 2000] pixels, got '%s'", optarg);
             break;
         case O_COIL:
-            if (!parse_double(optarg, 0, 1, &po.coil))
+            if (cli_parse_real("--coil", optarg, 0, 1, &po.coil, NULL) != 0)
                 return cli_usage("photo", "--coil must be in [0, 1], got '%s'", optarg);
             break;
         case O_BACK: {
@@ -150,19 +140,19 @@ int cmd_photo(int argc, char **argv)
             break;
         }
         case O_BLUR:
-            if (!parse_double(optarg, 0, 50, &po.blur))
+            if (cli_parse_real("--blur", optarg, 0, 50, &po.blur, NULL) != 0)
                 return cli_usage("photo", "--blur must be in [0, 50], got '%s'", optarg);
             break;
         case O_NOISE:
-            if (!parse_double(optarg, 0, 1, &po.noise))
+            if (cli_parse_real("--noise", optarg, 0, 1, &po.noise, NULL) != 0)
                 return cli_usage("photo", "--noise must be in [0, 1], got '%s'", optarg);
             break;
         case O_CAST:
-            if (!parse_double(optarg, 0, 1, &po.cast))
+            if (cli_parse_real("--cast", optarg, 0, 1, &po.cast, NULL) != 0)
                 return cli_usage("photo", "--cast must be in [0, 1], got '%s'", optarg);
             break;
         case O_QUALITY:
-            if (!parse_double(optarg, 1, 100, &v) || v != (int)v)
+            if (cli_parse_real("--quality", optarg, 1, 100, &v, NULL) != 0 || v != (int)v)
                 return cli_usage("photo", "--quality must be an integer in [1, 100], got '%s'", optarg);
             quality = (int)v;
             break;

@@ -97,18 +97,19 @@ int cmd_prepare(int argc, char **argv)
                                          {NULL, 0, NULL, 0}};
     const char *mask_path = NULL, *outdir = NULL;
     int debug = 0, c;
+    long v;
     SqPrepOptions po = sq_fit_prep_options_default();
+    SqError err;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "hm:o:", opts, NULL)) != -1) {
-        char *end;
         switch (c) {
         case 'm': mask_path = optarg; break;
         case 'o': outdir = optarg; break;
         case O_WORK:
-            po.work_size = (int)strtol(optarg, &end, 10);
-            if (*end || po.work_size < 128 || po.work_size > 8192)
-                return cli_usage("prepare", "--work-size must be 128 to 8192, got '%s'", optarg);
+            if (cli_parse_int("--work-size", optarg, 128, 8192, &v, &err) != 0)
+                return cli_usage("prepare", "%s", err.what);
+            po.work_size = (int)v;
             break;
         case O_DEBUG: debug = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
@@ -122,7 +123,6 @@ int cmd_prepare(int argc, char **argv)
         return cli_usage("prepare", "give exactly one PHOTO");
     if (!outdir)
         return cli_usage("prepare", "say where to write with -o DIR");
-    SqError err;
     char dbg[4096];
     snprintf(dbg, sizeof dbg, "%s/debug", outdir);
     if (cli_mkdirs(debug ? dbg : outdir) != 0) {

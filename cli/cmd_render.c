@@ -104,12 +104,12 @@ int cmd_render(int argc, char **argv)
         {NULL, 0, NULL, 0}};
     const char *outdir = NULL, *ca_file = NULL, *ext = "png", *sheet = NULL;
     int bits = 0, quiet = 0, preview = 0, cols = 0, size_given = 0, c;
-    long seed = -1;
+    long seed = -1, v;
     SqGenOptions go = sq_gen_options_default(1024);
+    SqError err;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "ho:s:f:b:j:q", opts, NULL)) != -1) {
-        char *end;
         switch (c) {
         case 'o': outdir = optarg; break;
         case 's':
@@ -120,9 +120,9 @@ int cmd_render(int argc, char **argv)
             break;
         case OPT_SHEET: sheet = optarg; break;
         case OPT_COLS:
-            cols = (int)strtol(optarg, &end, 10);
-            if (*end || cols < 1 || cols > 64)
-                return cli_usage("render", "--cols must be 1 to 64, got '%s'", optarg);
+            if (cli_parse_int("--cols", optarg, 1, 64, &v, &err) != 0)
+                return cli_usage("render", "%s", err.what);
+            cols = (int)v;
             break;
         case 'f':
             if (strcmp(optarg, "png") != 0 && strcmp(optarg, "exr") != 0)
@@ -130,20 +130,19 @@ int cmd_render(int argc, char **argv)
             ext = optarg;
             break;
         case 'b':
-            bits = (int)strtol(optarg, &end, 10);
-            if (*end || (bits != 8 && bits != 16 && bits != 32))
+            if (cli_parse_int("--bits", optarg, 8, 32, &v, NULL) != 0 || (v != 8 && v != 16 && v != 32))
                 return cli_usage("render", "--bits must be 8, 16 or 32, got '%s'", optarg);
+            bits = (int)v;
             break;
         case 'j':
-            go.threads = (int)strtol(optarg, &end, 10);
-            if (*end || go.threads < 1 || go.threads > 1024)
-                return cli_usage("render", "--threads must be a positive number, got '%s'", optarg);
+            if (cli_parse_int("--threads", optarg, 1, 1024, &v, &err) != 0)
+                return cli_usage("render", "%s", err.what);
+            go.threads = (int)v;
             break;
         case OPT_CA: ca_file = optarg; break;
         case OPT_SEED:
-            seed = strtol(optarg, &end, 10);
-            if (*end || seed < 0 || seed > 2147483647L)
-                return cli_usage("render", "--seed must be an integer in [0, 2147483647], got '%s'", optarg);
+            if (cli_parse_int("--seed", optarg, 0, 2147483647L, &seed, &err) != 0)
+                return cli_usage("render", "%s", err.what);
             break;
         case OPT_DIRECTX: go.normal_directx = 1; break;
         case OPT_PREVIEW: preview = 1; break;
@@ -180,7 +179,6 @@ int cmd_render(int argc, char **argv)
         return cli_usage("render", "give a PRESET or --ca FILE");
 
     SqParams p;
-    SqError err;
     sq_params_default(&p);
     if (argc - optind == 1 && sq_preset_load(argv[optind], &p, NULL, &err) != SQ_OK)
         return cli_fail(&err);

@@ -49,25 +49,25 @@ int cmd_score(int argc, char **argv)
                                          {NULL, 0, NULL, 0}};
     const char *mask_path = NULL;
     int json = 0, size = 256, c;
+    long v;
     double view = 0;
     SqPrepOptions po = sq_fit_prep_options_default();
+    SqError err;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "hm:", opts, NULL)) != -1) {
-        char *end;
         switch (c) {
         case 'm': mask_path = optarg; break;
         case O_JSON: json = 1; break;
         case O_SIZE:
-            size = (int)strtol(optarg, &end, 10);
-            if (*end || size < 64 || size > 2048)
-                return cli_usage("score", "--size must be 64 to 2048, got '%s'", optarg);
+            if (cli_parse_int("--size", optarg, 64, 2048, &v, &err) != 0)
+                return cli_usage("score", "%s", err.what);
+            size = (int)v;
             break;
         case O_DEBUG: po.debug_dir = optarg; break;
         case O_VIEW:
-            view = strtod(optarg, &end);
-            if (*end || !(view >= 0.05 && view <= 64))
-                return cli_usage("score", "--view must be 0.05 to 64, got '%s'", optarg);
+            if (cli_parse_real("--view", optarg, 0.05, 64, &view, &err) != 0)
+                return cli_usage("score", "%s", err.what);
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
@@ -81,7 +81,6 @@ int cmd_score(int argc, char **argv)
     const char *photo_path = argv[optind];
     const int n = argc - optind - 1;
     char **presets = argv + optind + 1;
-    SqError err;
     if (po.debug_dir && cli_mkdirs(po.debug_dir) != 0) {
         sq_error_set(&err, SQ_ERR_IO, po.debug_dir, "cannot create the folder: %s", strerror(errno));
         return cli_fail(&err);

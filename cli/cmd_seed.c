@@ -367,13 +367,12 @@ int cmd_seed(int argc, char **argv)
     double budget = 0;
     long max_evals = 0;
     SqSeedOptions so = sq_seed_options_default();
+    SqError err;
     int c;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "hc:o:n:d:s:m:b:j:q", opts, NULL)) != -1) {
-        char *end;
         long v;
-        double dv;
         int m = 0;
         switch (c) {
         case 'c':
@@ -391,28 +390,23 @@ int cmd_seed(int argc, char **argv)
         case O_PHOTO: m = MODE_PHOTO; origin = optarg; break;
         case 'o': outdir = optarg; break;
         case 'n':
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 1 || v > SQ_SEED_MAX)
-                return cli_usage("seed", "-n must be 1 to %d, got '%s'", SQ_SEED_MAX, optarg);
+            if (cli_parse_int("-n", optarg, 1, SQ_SEED_MAX, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             n = (int)v;
             break;
         case 'd':
-            dv = strtod(optarg, &end);
-            if (*end || end == optarg || !(dv >= 0.01 && dv <= 1))
-                return cli_usage("seed", "--distance must be 0.01 to 1, got '%s'", optarg);
-            so.distance = dv;
+            if (cli_parse_real("--distance", optarg, 0.01, 1, &so.distance, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             distance_given = 1;
             break;
         case 's':
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 0 || v > 2147483647L)
-                return cli_usage("seed", "--seed must be 0 to 2147483647, got '%s'", optarg);
+            if (cli_parse_int("--seed", optarg, 0, 2147483647L, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             so.seed = (uint64_t)v;
             break;
         case O_POOL:
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 1 || v > 64)
-                return cli_usage("seed", "--pool must be 1 to 64, got '%s'", optarg);
+            if (cli_parse_int("--pool", optarg, 1, 64, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             so.pool = (int)v;
             break;
         case 'm': mask_path = optarg; break;
@@ -422,27 +416,23 @@ int cmd_seed(int argc, char **argv)
                 return cli_usage("seed", "--budget takes a time such as 60s, 90 or 2m, got '%s'", optarg);
             break;
         case O_EVALS:
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 100 || v > 100000000)
-                return cli_usage("seed", "--evals must be 100 to 100000000, got '%s'", optarg);
+            if (cli_parse_int("--evals", optarg, 100, 100000000, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             max_evals = v;
             break;
         case O_SIZE:
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 32 || v > 1024)
-                return cli_usage("seed", "--size must be 32 to 1024, got '%s'", optarg);
+            if (cli_parse_int("--size", optarg, 32, 1024, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             size = (int)v;
             break;
         case O_COLS:
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 1 || v > 64)
-                return cli_usage("seed", "--cols must be 1 to 64, got '%s'", optarg);
+            if (cli_parse_int("--cols", optarg, 1, 64, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             cols = (int)v;
             break;
         case 'j':
-            v = strtol(optarg, &end, 10);
-            if (*end || end == optarg || v < 1 || v > 1024)
-                return cli_usage("seed", "--threads must be 1 to 1024, got '%s'", optarg);
+            if (cli_parse_int("--threads", optarg, 1, 1024, &v, &err) != 0)
+                return cli_usage("seed", "%s", err.what);
             so.threads = (int)v;
             break;
         case 'q': quiet = 1; break;
@@ -473,7 +463,6 @@ int cmd_seed(int argc, char **argv)
         return cli_usage("seed", "--pool is for --category and --near");
     so.n = n ? n : mode == MODE_PHOTO ? 24 : 12;
 
-    SqError err;
     if (!usable_dir(outdir, &err))
         return cli_fail(&err);
     Progress px = {.tty = isatty(STDERR_FILENO), .quiet = quiet || json};

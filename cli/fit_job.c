@@ -305,8 +305,8 @@ void cli_fit_job_init(CliFitJob *job)
 
 int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
 {
-    char *end;
     long v;
+    SqError err;
     SqFitOptions *fo = &job->fo;
     switch (c) {
     case 'b':
@@ -316,33 +316,28 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
         job->budget_given = 1;
         return CLI_OK;
     case CLI_FITOPT_EVALS:
-        v = strtol(arg, &end, 10);
-        if (*end || v < 100 || v > 100000000)
-            return cli_usage(cmd, "--evals must be 100 to 100000000, got '%s'", arg);
+        if (cli_parse_int("--evals", arg, 100, 100000000, &v, &err) != 0)
+            return cli_usage(cmd, "%s", err.what);
         fo->max_evals = v;
         return CLI_OK;
     case 's':
-        v = strtol(arg, &end, 10);
-        if (*end || v < 0 || v > 2147483647L)
-            return cli_usage(cmd, "--seed must be 0 to 2147483647, got '%s'", arg);
+        if (cli_parse_int("--seed", arg, 0, 2147483647L, &v, &err) != 0)
+            return cli_usage(cmd, "%s", err.what);
         fo->seed = (uint64_t)v;
         return CLI_OK;
     case 'j':
-        v = strtol(arg, &end, 10);
-        if (*end || v < 1 || v > 1024)
-            return cli_usage(cmd, "--threads must be 1 to 1024, got '%s'", arg);
+        if (cli_parse_int("--threads", arg, 1, 1024, &v, &err) != 0)
+            return cli_usage(cmd, "%s", err.what);
         fo->threads = (int)v;
         return CLI_OK;
     case CLI_FITOPT_SIZE:
-        v = strtol(arg, &end, 10);
-        if (*end || v < 64 || v > 8192)
-            return cli_usage(cmd, "--size must be 64 to 8192, got '%s'", arg);
+        if (cli_parse_int("--size", arg, 64, 8192, &v, &err) != 0)
+            return cli_usage(cmd, "%s", err.what);
         job->size = (int)v;
         return CLI_OK;
     case CLI_FITOPT_WORK:
-        v = strtol(arg, &end, 10);
-        if (*end || v < 256 || v > 8192)
-            return cli_usage(cmd, "--work-size must be 256 to 8192, got '%s'", arg);
+        if (cli_parse_int("--work-size", arg, 256, 8192, &v, &err) != 0)
+            return cli_usage(cmd, "%s", err.what);
         job->po.work_size = (int)v;
         return CLI_OK;
     case CLI_FITOPT_CATEGORIES: {

@@ -133,6 +133,8 @@ run render --sheet "$TMP/sheet3.png" "$SRC/presets/thesis/table_4_4_spots.json" 
 check "render --sheet with -o" 2 err "--sheet makes one PNG of base colours"
 run render --cols 2 "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r"; check "render --cols without --sheet" 2 err "--cols is for --sheet"
 run render --sheet "$TMP/sheet3.png"; check "render --sheet alone" 2 err "needs the PRESETs"
+run render --sheet "$TMP/sheet3.png" --cols 3x "$SRC/presets/thesis/table_4_4_spots.json"; check "render --cols trailing garbage" 2 err "--cols must be 1 to 64, got '3x'"
+run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r" --threads 0; check "render --threads 0" 2 err "--threads must be 1 to 1024, got '0'"
 
 # photo and preview
 run photo --help;         check "photo --help" 0 out "usage: squama photo"
@@ -179,6 +181,10 @@ run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$TMP/typo.json"; check "score b
 run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" --view 1.5 "$SRC/presets/thesis/table_4_4_spots.json"
 check "score --view" 0 out "   1.50 "
 run score "$TMP/p.jpg" --view 0 "$SRC/presets/thesis/table_4_4_spots.json"; check "score --view 0" 2 err "--view must be 0.05 to 64"
+run score "$TMP/p.jpg" --view inf "$SRC/presets/thesis/table_4_4_spots.json"; check "score --view inf" 2 err "--view must be 0.05 to 64, got 'inf'"
+run score "$TMP/p.jpg" --size 99999999999999999999 "$SRC/presets/thesis/table_4_4_spots.json"; check "score --size overflow" 2 err "--size must be 64 to 2048, got '99999999999999999999'"
+# no way in through an int's wrap-around (4294967808 was read as 512)
+run prepare "$TMP/p.jpg" -o "$TMP/prepx" --work-size 4294967808; check "prepare --work-size past int" 2 err "--work-size must be 128 to 8192, got '4294967808'"
 
 
 # fit (on the same photo, with a small evaluation budget)
@@ -186,6 +192,7 @@ run fit --help;           check "fit --help" 0 out "usage: squama fit" out "repo
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png"; check "fit without -o" 2 err "say where the results go"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --budget soon; check "fit bad budget" 2 err "--budget"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --method simplex; check "fit bad method" 2 err "simplex"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --seed ""; check "fit empty --seed" 2 err "--seed must be 0 to 2147483647, got ''"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --categories spots,stripes; check "fit bad kind" 2 err "layered, or all; got 'stripes'"
 run fit "$TMP/none.jpg" -o "$TMP/fx" --evals 100; check "fit missing photo" 1 err "cannot open image"
 [ -e "$TMP/fx/best.json" ] && { echo "FAIL: a failed fit wrote best.json"; fails=$((fails + 1)); }
