@@ -213,6 +213,31 @@ static void objectives_see_their_changes(void **state)
         fail_msg("ring spacing: along %.4f vs %.4f", other[SQ_OBJ_ALONG], same[SQ_OBJ_ALONG]);
 }
 
+/* How much pattern there is counts, each direction on its own; at a plain skin's noise
+ * level (variances of a few 1e-4) the direction of the noise is chance and costs little,
+ * a pattern's worth of variance costs much. */
+static void spectra_weigh_amounts(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    p.Pattern_Type = SQ_PATTERN_NONE;
+    SqFeatures t, c, patterned;
+    features_of(&p, 1.0, &t);
+    c = patterned = t;
+    t.along_power = 4e-4, t.across_power = 2e-4;   /* noise, a little more of it along */
+    c.along_power = 2e-4, c.across_power = 4e-4;   /* and across */
+    patterned.along_power = 2e-2, patterned.across_power = 2e-4; /* rings */
+    double noise[SQ_OBJ_COUNT], rings[SQ_OBJ_COUNT];
+    objectives(&t, &c, noise);
+    objectives(&t, &patterned, rings);
+    printf("  noise: along %.3f across %.3f; rings: along %.3f\n", noise[SQ_OBJ_ALONG], noise[SQ_OBJ_ACROSS],
+           rings[SQ_OBJ_ALONG]);
+    assert_true(noise[SQ_OBJ_ALONG] < 0.1 && noise[SQ_OBJ_ACROSS] < 0.1); /* as a power share: 0.25 each */
+    assert_true(rings[SQ_OBJ_ALONG] > 10 * noise[SQ_OBJ_ALONG]);
+    assert_true(rings[SQ_OBJ_ACROSS] < 1e-9); /* nothing changed across */
+}
+
 static void lit_features(const SqParams *p, int size, double grain, SqFeatures *f)
 {
     SqGenOptions o = sq_gen_options_default(size);
@@ -294,6 +319,7 @@ int main(void)
         cmocka_unit_test(lab_to_srgb_round_trip),
         cmocka_unit_test(identical_features_score_zero),
         cmocka_unit_test(objectives_see_their_changes),
+        cmocka_unit_test(spectra_weigh_amounts),
         cmocka_unit_test(strips_are_stable),
         cmocka_unit_test(refusals),
     };
