@@ -246,11 +246,12 @@ static void baselines_run_on_the_same_budget(void **state)
     (void)state;
     for (int m = SQ_FIT_RANDOM; m <= SQ_FIT_ISRES; m++) {
         SqFitOptions o = small(2);
-        o.max_evals = 400;
+        o.max_evals = 250;
         o.method = (SqFitMethod)m;
         SqFitResult r;
         assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
-        assert_true(r.evals >= 300 && r.evals <= 420); /* 80% searching, then the re-scoring */
+        printf("  method %d: %ld evaluations\n", m, r.evals);
+        assert_true(r.evals >= 185 && r.evals <= 262); /* 80% searching, then the re-scoring */
         assert_true(isfinite(r.best.score));
         sq_fit_result_free(&r);
     }
