@@ -743,8 +743,8 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
         return sq_error_set(err, SQ_ERR_INVALID, "seed", "the fit has no front");
     if ((st = run_begin(&r, o, out, err)) != SQ_OK)
         return st;
-    /* the first o->n distinct members: a fit's front can hold one candidate twice (a
-     * niche's best and its copy in the archive, re-scored alike) */
+    /* the first o->n distinct presets: a front holds each candidate once, but one preset
+     * may stand in it at two view scales, and a preset sheet shows no view scale */
     int n = 0;
     int *ok = malloc(sizeof(int) * (size_t)fit->nfront), *pick = malloc(sizeof(int) * (size_t)fit->nfront);
     out->pool = malloc(sizeof *out->pool * (size_t)fit->nfront);
