@@ -49,7 +49,7 @@ int main(int argc, char **argv)
         }
         double t1 = now_us();
         SqImage strip;
-        if (sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, 1.0, 0.5, LEN, &strip, &err) != SQ_OK)
+        if (sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, 1.0, 0.5, LEN, &strip, &err) != SQ_OK)
             return 1;
         double t2 = now_us();
         if (sq_fit_features(&strip, NULL, r == 0 ? &target : &cand, &err) != SQ_OK)

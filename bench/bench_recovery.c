@@ -98,7 +98,9 @@ static int truth(const char *base, const char *category, long seed, const char *
     return 0;
 }
 
-static int features(const SqParams *p, int seed, double view, SqTextures *maps, SqFeatures *out)
+/* A preset's features at a view scale under a light (NULL: the key light). */
+static int features(const SqParams *p, int seed, double view, const SqLight *light, SqTextures *maps,
+                    SqFeatures *out)
 {
     SqParams q = *p;
     q.Seed = seed;
@@ -106,7 +108,7 @@ static int features(const SqParams *p, int seed, double view, SqTextures *maps, 
     SqError e;
     SqImage strip = {0};
     if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, light, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
         sq_fit_features(&strip, NULL, out, &e) != SQ_OK) {
         sq_image_free(&strip);
         return fail(&e);
@@ -140,7 +142,7 @@ static int photo_features(const char *photo, const char *mask, SqFeatures *out)
     SqPrepOptions po = sq_fit_prep_options_default();
     SqPrepared prep;
     int rc = sq_fit_prepare(&img, &bin, &po, &prep, &e) != SQ_OK ||
-             sq_fit_features(&prep.strip, &prep.valid, out, &e) != SQ_OK;
+             sq_fit_photo_target(&prep, out, &e) != SQ_OK;
     if (rc)
         fail(&e);
     else
@@ -161,17 +163,18 @@ static int compare(char **argv)
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
         norm[k] = atof(argv[6 + k]);
     SqTextures maps = {0};
-    SqFeatures ph, ft, fx, fy;
+    SqFeatures ph, ft, fx, fy, px, py;
     double tfit = 0, tre = 0, pfit = 0, ptru = 0, pal = 0, obj[SQ_OBJ_COUNT];
-    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, &maps, &ft))
+    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, NULL, &maps, &ft))
         return 1;
-    for (int s = 1; s <= RESEEDS; s++) {
-        if (features(&f, 1000 + s, vf, &maps, &fx) || features(&t, 2000 + s, vt, &maps, &fy))
+    for (int s = 1; s <= RESEEDS; s++) { /* texture space under the key light, the photo under its own */
+        if (features(&f, 1000 + s, vf, NULL, &maps, &fx) || features(&t, 2000 + s, vt, NULL, &maps, &fy) ||
+            features(&f, 1000 + s, vf, &ph.light, &maps, &px) || features(&t, 2000 + s, vt, &ph.light, &maps, &py))
             return 1;
         tfit += distance(&ft, &fx, norm) / RESEEDS;
         tre += distance(&ft, &fy, norm) / RESEEDS;
-        pfit += distance(&ph, &fx, norm) / RESEEDS;
-        ptru += distance(&ph, &fy, norm) / RESEEDS;
+        pfit += distance(&ph, &px, norm) / RESEEDS;
+        ptru += distance(&ph, &py, norm) / RESEEDS;
         sq_fit_objectives(&ft, &fx, obj);
         pal += obj[SQ_OBJ_PALETTE] / RESEEDS;
     }

@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,7 +25,8 @@ static const char help[] =
     "straightens its clean stretches (between crossings) into a strip, with the light evened\n"
     "out.\n"
     "Writes DIR/mask.png (the photo's size: correct it and pass it back with --mask),\n"
-    "DIR/strip.png, DIR/prepared.json (body width, length, stretches, mask source) and, with --debug,\n"
+    "DIR/strip.png, DIR/prepared.json (body width, length, stretches, mask source, the light's\n"
+    "direction in the photo) and, with --debug,\n"
     "every step as an image in DIR/debug/.\n"
     "\n"
     "options:\n"
@@ -84,6 +86,19 @@ int cli_load_photo(const char *photo_path, const char *mask_path, SqImage *photo
         sq_image_free(&m);
     }
     return 0;
+}
+
+/* Where the light comes from, in words: one of eight directions in the photo. */
+static const char *light_words(const float xy[2])
+{
+    static const char *const from[8] = {"lit from the right", "lit from the lower right", "lit from below",
+                                        "lit from the lower left", "lit from the left", "lit from the upper left",
+                                        "lit from above", "lit from the upper right"};
+    if (hypot(xy[0], xy[1]) < 0.1)
+        return "no clear light direction";
+    double a = atan2(xy[1], xy[0]); /* y down: 90 degrees is below */
+    int k = (int)lround(a / atan(1.0)); /* eighths of a turn */
+    return from[(k + 8) % 8];
 }
 
 int cmd_prepare(int argc, char **argv)
@@ -167,6 +182,7 @@ int cmd_prepare(int argc, char **argv)
         cJSON_AddNumberToObject(o, "length", prep.length);
         cJSON_AddNumberToObject(o, "stretches", prep.nruns);
         cJSON_AddNumberToObject(o, "strip_rows", prep.strip.height);
+        cJSON_AddItemToObject(o, "light", cJSON_CreateFloatArray(prep.light_xy, 2));
         char *text = sq__json_print(o);
         cJSON_Delete(o);
         snprintf(path, sizeof path, "%s/prepared.json", outdir);
@@ -175,9 +191,9 @@ int cmd_prepare(int argc, char **argv)
         free(text);
         if (rc == CLI_OK)
             printf("%s: %s mask, body %.0f px wide, %.0f px of it in %d stretch%s straightened into a "
-                   "%dx%d strip\n",
+                   "%dx%d strip, %s\n",
                    argv[optind], src[prep.mask_source], prep.body_width, prep.length, prep.nruns,
-                   prep.nruns == 1 ? "" : "es", prep.strip.width, prep.strip.height);
+                   prep.nruns == 1 ? "" : "es", prep.strip.width, prep.strip.height, light_words(prep.light_xy));
         sq_fit_prepared_free(&prep);
     }
     sq_image_free(&photo);

@@ -108,7 +108,7 @@ int cmd_score(int argc, char **argv)
         rc = cli_fail(&err);
     if (rc == CLI_OK && sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK)
         rc = cli_fail(&err);
-    if (rc == CLI_OK && sq_fit_features(&prep.strip, &prep.valid, &target, &err) != SQ_OK)
+    if (rc == CLI_OK && sq_fit_photo_target(&prep, &target, &err) != SQ_OK)
         rc = cli_fail(&err);
     SqTextures maps = {0};
     for (int i = 0; i < n && rc == CLI_OK; i++) {

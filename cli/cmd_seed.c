@@ -508,7 +508,7 @@ int cmd_seed(int argc, char **argv)
         px.what = s.origin_name;
         if (cli_load_photo(origin, mask_path, &photo, &mask, &err) != 0 ||
             sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK ||
-            sq_fit_features(&prep.strip, &prep.valid, &target, &err) != SQ_OK) {
+            sq_fit_photo_target(&prep, &target, &err) != SQ_OK) {
             rc = cli_fail(&err);
         } else {
             SqFitOptions fo = sq_fit_options_default();

@@ -165,7 +165,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     }
     SqImage strip = {0};
     if (st == SQ_OK)
-        st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, r->best.view_scale, fo->band_centre,
+        st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, &prep->light, r->best.view_scale, fo->band_centre,
                                     prep->strip.height, &strip, err);
     if (st == SQ_OK) {
         snprintf(path, sizeof path, "%s/fitted_strip.png", outdir);
@@ -397,7 +397,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     if (st == SQ_OK)
         st = sq_fit_prepare(&photo, job->mask ? &mask : NULL, &job->po, &prep, err);
     if (st == SQ_OK)
-        st = sq_fit_features(&prep.strip, &prep.valid, &target, err);
+        st = sq_fit_photo_target(&prep, &target, err);
     if (st == SQ_OK) {
         x.outdir = job->outdir;
         x.quiet = job->quiet;

@@ -36,6 +36,14 @@ void sq_fit_prepared_free(SqPrepared *p)
     memset(p, 0, sizeof *p);
 }
 
+SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *err)
+{
+    SqStatus st = sq_fit_features(&p->strip, &p->valid, target, err);
+    if (st == SQ_OK)
+        target->light = p->light;
+    return st;
+}
+
 static void debug_save(const SqPrepOptions *o, const char *name, const SqImage *img)
 {
     if (!o->debug_dir || !img->px)
@@ -111,7 +119,6 @@ static int cmp_float(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Gaussian smoothing of a 1-D signal, the ends clamped. */
 /* The k-th smallest of v[0..n) (v is reordered): Hoare's selection. */
 static float select_k(float *v, int n, int k)
 {
@@ -142,6 +149,7 @@ static float select_k(float *v, int n, int k)
     return v[k];
 }
 
+/* Gaussian smoothing of a 1-D signal, the ends clamped. */
 static void smooth1d(float *v, int n, double sigma)
 {
     if (sigma < 0.5 || n < 2)
@@ -445,6 +453,26 @@ static SqStatus fail(SqPrepared *out, SqStatus st)
     return st;
 }
 
+/* The slope over t in [-1, 1] across a strip row of lv (log luminance), by least squares
+ * over the valid pixels (valid NULL: all); NAN where fewer than half are. */
+static float row_tilt(const double *lv, const float *valid)
+{
+    enum { W = SQ_FIT_STRIP_W };
+    double sl = 0, st = 0, stt = 0, sll = 0;
+    int m = 0;
+    for (int x = 0; x < W; x++)
+        if (!valid || valid[x] > 0.5f) {
+            double t = (x + 0.5) / W * 2 - 1;
+            sl += lv[x];
+            st += t;
+            stt += t * t;
+            sll += lv[x] * t;
+            m++;
+        }
+    double den = stt - st * st / (m ? m : 1);
+    return m >= W / 2 && den > 1e-6 ? (float)((sll - sl * st / m) / den) : NAN;
+}
+
 /* The largest left-right tilt divided out locally: a log-luminance slope of 0.7 over the
  * half width, the one edge of the band twice as bright as the middle and four times the
  * other edge. */
@@ -538,19 +566,10 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
         double tsum = 0;
         int tcount = 0;
         for (int y = 0; y < n; y++) {
-            double sl = 0, st = 0, stt = 0, sll = 0;
-            int m = 0;
+            double lv[W];
             for (int x = 0; x < W; x++)
-                if (!valid || valid->px[(size_t)y * W + x] > 0.5f) {
-                    double t = (x + 0.5) / W * 2 - 1, lv = log(lum[(size_t)y * W + x] / colf[x]);
-                    sl += lv;
-                    st += t;
-                    stt += t * t;
-                    sll += lv * t;
-                    m++;
-                }
-            double den = stt - st * st / (m ? m : 1);
-            tilt[y] = m >= W / 2 && den > 1e-6 ? (float)((sll - sl * st / m) / den) : NAN;
+                lv[x] = log(lum[(size_t)y * W + x] / colf[x]);
+            tilt[y] = row_tilt(lv, valid ? valid->px + (size_t)y * W : NULL);
             if (isfinite(tilt[y])) {
                 tsum += tilt[y];
                 tcount++;
@@ -604,6 +623,87 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     free(row);
     free(tilt);
     free(tf);
+}
+
+/* The light from the shading: the log luminance of a lit round body slopes across it
+ * as the light's component across the body (a left-right tilt), and as the body turns
+ * that component follows the light's direction in the photo. One light fixed in the
+ * photo: the tilt of each row is t . G, t the row's across direction in the photo, G
+ * found by least squares over the rows (with a little ridge: a straight body shows only
+ * the across part). Each row's light in the strip's frame is then G's direction across and
+ * along the body there, at the key light's elevation (50 degrees), and its in-plane part
+ * shrinks where the tilt is too small to be a directional light. Kept: the middle of the
+ * path, as long as a candidate's strip, every SQ_FIT_LIGHT_STEP rows. tangent: the rows'
+ * unit tangent in the photo (x NAN between runs). */
+static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
+                           float light_xy[2])
+{
+    enum { W = SQ_FIT_STRIP_W };
+    /* the tilt of squama photo's key light straight across (its full in-plane part) */
+    static const float FULL_TILT = 0.65f, IN_PLANE = 0.652f, UP = 0.758f;
+    const int n = strip->height;
+    memset(light, 0, sizeof *light);
+    float *tilt = malloc(sizeof(float) * (size_t)n);
+    if (!tilt)
+        return; /* the key light */
+    sq__lab_init();
+    for (int y = 0; y < n; y++) {
+        double lv[W];
+        for (int x = 0; x < W; x++) {
+            const float *p = strip->px + 3 * ((size_t)y * W + x);
+            lv[x] = log(0.2126 * sq__srgb_to_linear_lut(p[0]) + 0.7152 * sq__srgb_to_linear_lut(p[1]) +
+                        0.0722 * sq__srgb_to_linear_lut(p[2]) + 1e-3);
+        }
+        tilt[y] = isfinite(tangent[y][0]) ? row_tilt(lv, valid->px + (size_t)y * W) : NAN;
+    }
+    double a = 0, b = 0, c = 0, ra = 0, rb = 0;
+    int m = 0;
+    for (int y = 0; y < n; y++)
+        if (isfinite(tilt[y])) {
+            const double nx = -tangent[y][1], ny = tangent[y][0];
+            a += nx * nx;
+            b += nx * ny;
+            c += ny * ny;
+            ra += nx * tilt[y];
+            rb += ny * tilt[y];
+            m++;
+        }
+    free(tilt);
+    if (m < W)
+        return;
+    a += 0.05 * m;
+    c += 0.05 * m;
+    const double det = a * c - b * b, gx = (c * ra - b * rb) / det, gy = (a * rb - b * ra) / det;
+    const double g = hypot(gx, gy);
+    if (!(g > 1e-3) || !isfinite(g))
+        return;
+    const double k = IN_PLANE * fmin(1.0, g / FULL_TILT) / g; /* G to the in-plane light */
+    const double lx = gx * k, ly = gy * k;
+    light_xy[0] = (float)lx;
+    light_xy[1] = (float)ly;
+    double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
+    int cnt[SQ_FIT_LIGHT_ROWS] = {0}, rows = 0;
+    enum { SPAN = SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP };
+    for (int y = 0; y < n; y++)
+        rows += isfinite(tangent[y][0]);
+    const int first = rows > SPAN ? (rows - SPAN) / 2 : 0, used = rows < SPAN ? rows : SPAN;
+    for (int y = 0, i = 0; y < n; y++)
+        if (isfinite(tangent[y][0])) {
+            const int bin = (i++ - first) / SQ_FIT_LIGHT_STEP;
+            if (bin < 0 || bin >= SQ_FIT_LIGHT_ROWS)
+                continue;
+            const double tx = tangent[y][0], ty = tangent[y][1];
+            acc[bin][0] += lx * -ty + ly * tx; /* across: the columns' way */
+            acc[bin][1] -= lx * tx + ly * ty;  /* up the texture: against the rows */
+            acc[bin][2] += UP;
+            cnt[bin]++;
+        }
+    light->rows = (used + SQ_FIT_LIGHT_STEP - 1) / SQ_FIT_LIGHT_STEP;
+    for (int i = 0; i < light->rows; i++) {
+        const double len = sqrt(acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
+        for (int k2 = 0; k2 < 3; k2++)
+            light->dir[i][k2] = (float)(acc[i][k2] / len);
+    }
 }
 
 /* One run of the centre line made ready to straighten: smoothed, moved between the
@@ -669,7 +769,7 @@ static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
 /* Samples the photo perpendicular to the curve into c->rows rows of the strip from row0:
  * every `step` pixels along it, across at d = r sin(theta). */
 static void curve_sample(const Curve *c, const SqImage *photo, const uint8_t *m8, double step,
-                         SqImage *strip, SqImage *valid, int row0)
+                         SqImage *strip, SqImage *valid, int row0, float (*tangent)[2])
 {
     const int w = photo->width, h = photo->height, n = c->n;
     int seg = 0;
@@ -686,6 +786,8 @@ static void curve_sample(const Curve *c, const SqImage *photo, const uint8_t *m8
         tx /= tl > 0 ? tl : 1;
         ty /= tl > 0 ? tl : 1;
         double nx = -ty, ny = tx;
+        tangent[row0 + j][0] = (float)tx;
+        tangent[row0 + j][1] = (float)ty;
         const int row_clean = c->clean[seg] && c->clean[seg + 1 < n ? seg + 1 : seg];
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
@@ -727,6 +829,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     Body body = {0};
     Curve curves[MAX_RUNS];
     int ncurves = 0;
+    float (*tangent)[2] = NULL; /* per strip row */
     SqStatus st = SQ_OK;
 #define FAIL(...)                                    \
     do {                                             \
@@ -921,18 +1024,22 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
              "%.1f body widths: too short to straighten (%.1f at least)",
              len, len / (2 * r), SQ_FIT_STRIP_W * step / (2 * r));
     }
-    if (sq_image_alloc(&out->strip, SQ_FIT_STRIP_W, rows, 3, SQ_SPACE_SRGB) ||
+    tangent = malloc(sizeof *tangent * (size_t)rows);
+    if (!tangent || sq_image_alloc(&out->strip, SQ_FIT_STRIP_W, rows, 3, SQ_SPACE_SRGB) ||
         sq_image_alloc(&out->valid, SQ_FIT_STRIP_W, rows, 1, SQ_SPACE_DATA))
         FAIL(SQ_ERR_NOMEM, "strip", "out of memory for the strip");
+    for (int y = 0; y < rows; y++)
+        tangent[y][0] = tangent[y][1] = NAN; /* the gaps between runs */
     /* 7. resample perpendicular to the centre lines, run after run (the gaps between them
      * count as not body) */
     double length = 0;
     for (int k = 0, row0 = 0; k < ncurves; k++) {
-        curve_sample(&curves[k], &out->photo, body.m8, step, &out->strip, &out->valid, row0);
+        curve_sample(&curves[k], &out->photo, body.m8, step, &out->strip, &out->valid, row0, tangent);
         row0 += curves[k].rows + RUN_GAP;
         length += curves[k].rows * step;
     }
     debug_save(&o, "5_strip_raw.png", &out->strip);
+    estimate_light(&out->strip, &out->valid, tangent, &out->light, out->light_xy);
     /* the light of each stretch on its own: another part of the body lies another way */
     for (int k = 0, row0 = 0; k < ncurves; k++) {
         SqImage sv = out->strip, vv = out->valid;
@@ -961,6 +1068,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         }
 #undef FAIL
 done:
+    free(tangent);
     free(rgb0);
     free(m8);
     body_free(&body);

@@ -32,7 +32,7 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
         SqImage strip;
         SqFeatures f;
         double o[SQ_OBJ_COUNT];
-        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, vs, band_centre, CANDIDATE_ROWS,
+        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &target->light, vs, band_centre, CANDIDATE_ROWS,
                                     &strip, err);
         if (st != SQ_OK)
             break;

@@ -9,8 +9,39 @@ static const float KEY[3] = {-0.35f, 0.55f, 0.76f};
 
 enum { SUB_MAX = 4 }; /* sub-samples per strip pixel and direction, at most */
 
+/* The light at strip row j (see SqLight); L and the half vector H towards a camera
+ * straight above, both unit. */
+static void light_at(const SqLight *light, int j, float L[3], float H[3])
+{
+    float l[3] = {KEY[0], KEY[1], KEY[2]};
+    if (light && light->rows > 0) {
+        const int m = light->rows < SQ_FIT_LIGHT_ROWS ? light->rows : SQ_FIT_LIGHT_ROWS;
+        float x = (float)j / SQ_FIT_LIGHT_STEP;
+        if (m > 1) { /* back and forth: x in [0, m - 1] */
+            x = fmodf(x, 2.0f * (m - 1));
+            x = x > m - 1 ? 2.0f * (m - 1) - x : x;
+        } else
+            x = 0;
+        const int a = (int)x, b = a + 1 < m ? a + 1 : a;
+        const float t = x - (float)a;
+        for (int k = 0; k < 3; k++)
+            l[k] = light->dir[a][k] + (light->dir[b][k] - light->dir[a][k]) * t;
+    }
+    float ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    if (!(ll > 1e-6f) || !isfinite(ll)) { /* a broken light: the key's */
+        memcpy(l, KEY, sizeof l);
+        ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    }
+    H[0] = l[0], H[1] = l[1], H[2] = l[2] + 1.0f; /* (the key is 1.001 long: as it always was) */
+    for (int k = 0; k < 3; k++)
+        L[k] = l[k] / ll;
+    const float hl = sqrtf(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]);
+    for (int k = 0; k < 3; k++)
+        H[k] /= hl;
+}
+
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
-                                const SqImage *roughness, double view_scale,
+                                const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err)
 {
     if (!basecolor || !basecolor->px || basecolor->channels < 3)
@@ -55,15 +86,10 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         cyl[i][0] = (float)sin(th);
         cyl[i][1] = (float)cos(th);
     }
-    float L[3] = {KEY[0], KEY[1], KEY[2]}, H[3] = {KEY[0], KEY[1], KEY[2] + 1.0f};
-    float hl = sqrtf(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]), ll = sqrtf(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
-    for (int k = 0; k < 3; k++) {
-        H[k] /= hl;
-        L[k] /= ll;
-    }
     sq__lab_init();
     for (int j = 0; j < length; j++) {
-        float acc[SQ_FIT_STRIP_W][3];
+        float L[3], H[3], acc[SQ_FIT_STRIP_W][3];
+        light_at(light, j, L, H);
         memset(acc, 0, sizeof acc);
         for (int sy = 0; sy < sy_n; sy++) {
             double y = ((j + (sy + 0.5) / sy_n) * dv) * h - 0.5, fy = floor(y);

@@ -152,7 +152,7 @@ static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqT
     SqImage strip = {0};
     SqFeatures feat;
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, c->view_scale, f->o.band_centre,
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &f->target->light, c->view_scale, f->o.band_centre,
                                STRIP_ROWS, &strip, NULL) != SQ_OK ||
         sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);

@@ -322,7 +322,7 @@ static int evaluate(SqSeedCandidate *c, int size, int threads, SqTextures *maps,
     go.threads = threads;
     SqImage strip = {0};
     if (sq_gen_render_into(&c->params, &go, maps, err) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, 1.0, 0.5, STRIP_ROWS, &strip,
+        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, NULL, 1.0, 0.5, STRIP_ROWS, &strip,
                                err) != SQ_OK ||
         sq_fit_features(&strip, NULL, &c->features, err) != SQ_OK) {
         sq_image_free(&strip);

@@ -18,7 +18,7 @@ static int features_of(const SqParams *p, SqFeatures *out)
     SqGenOptions go = sq_gen_options_default(256);
     SqImage strip;
     int rc = sq_gen_render(p, &go, &t, &err) == SQ_OK &&
-                     sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, TRUE_SCALE, 0.5, 256, &strip, &err) == SQ_OK &&
+                     sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, TRUE_SCALE, 0.5, 256, &strip, &err) == SQ_OK &&
                      sq_fit_features(&strip, NULL, out, &err) == SQ_OK
                  ? 0
                  : -1;

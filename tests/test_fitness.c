@@ -103,7 +103,7 @@ static void features_of(const SqParams *p, double view_scale, SqFeatures *f)
     if (sq_gen_render(p, &o, &t, &err) != SQ_OK)
         fail_msg("render: %s", err.what);
     SqImage strip;
-    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, NULL, NULL, view_scale, 0.5, 256, &strip, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, NULL, NULL, NULL, view_scale, 0.5, 256, &strip, &err), SQ_OK);
     if (sq_fit_features(&strip, NULL, f, &err) != SQ_OK)
         fail_msg("features: %s", err.what);
     sq_image_free(&strip);
@@ -246,7 +246,7 @@ static void lit_features(const SqParams *p, int size, double grain, SqFeatures *
     if (sq_gen_render(p, &o, &t, &err) != SQ_OK)
         fail_msg("render: %s", err.what);
     SqImage strip;
-    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, 1.0, 0.5, 256, &strip, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, 1.0, 0.5, 256, &strip, &err), SQ_OK);
     uint64_t x = 88172645463325252ull; /* xorshift: a camera's grain */
     for (size_t i = 0; grain > 0 && i < (size_t)strip.width * strip.height * 3; i++) {
         double g = 0;
@@ -287,6 +287,40 @@ static void strips_are_stable(void **state)
     assert_true(o[SQ_OBJ_SHAPE] < 0.05);
 }
 
+/* A light path of one row is that light all along: the key light's direction given that
+ * way gives the key light's strip; a light from the other side gives another strip. */
+static void strips_take_the_light(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    p.Pattern_Type = SQ_PATTERN_NONE;
+    SqGenOptions o = sq_gen_options_default(256);
+    SqTextures t;
+    SqError err;
+    assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_OK);
+    SqLight light = {.rows = 1, .dir = {{-0.35f, 0.55f, 0.76f}}};
+    SqImage a, b, c;
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, 1.0, 0.5, 128, &a, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, &light, 1.0, 0.5, 128, &b, &err), SQ_OK);
+    light.dir[0][0] = 0.35f; /* from the right */
+    light.dir[0][1] = -0.55f;
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, &light, 1.0, 0.5, 128, &c, &err), SQ_OK);
+    double same = 0, other = 0;
+    const size_t n = (size_t)a.width * a.height * 3;
+    for (size_t i = 0; i < n; i++) {
+        same = fmax(same, fabs(a.px[i] - b.px[i]));
+        other += fabs(a.px[i] - c.px[i]) / n;
+    }
+    printf("  the key light given as a path: largest difference %.2g; lit from the right: mean %.4f\n", same, other);
+    assert_true(same < 1e-5);
+    assert_true(other > 0.005);
+    sq_image_free(&a);
+    sq_image_free(&b);
+    sq_image_free(&c);
+    sq_gen_textures_free(&t);
+}
+
 static void refusals(void **state)
 {
     (void)state;
@@ -306,8 +340,8 @@ static void refusals(void **state)
     assert_contains(err.what, "another size");
     sq_image_free(&valid);
     SqImage none = {0};
-    assert_int_equal(sq_fit_candidate_strip(&none, NULL, NULL, 1, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
-    assert_int_equal(sq_fit_candidate_strip(&strip, NULL, NULL, 0, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_candidate_strip(&none, NULL, NULL, NULL, 1, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_candidate_strip(&strip, NULL, NULL, NULL, 0, 0.5, 64, &valid, &err), SQ_ERR_INVALID);
     sq_image_free(&strip);
 }
 
@@ -321,6 +355,7 @@ int main(void)
         cmocka_unit_test(objectives_see_their_changes),
         cmocka_unit_test(spectra_weigh_amounts),
         cmocka_unit_test(strips_are_stable),
+        cmocka_unit_test(strips_take_the_light),
         cmocka_unit_test(refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

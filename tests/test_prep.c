@@ -135,6 +135,38 @@ static void coiled_body_in_stretches(void **state)
 
 /* GrabCut finds the snake on bare soil. (In grass or leaf litter it often does not: the
  * automatic mask is a best effort, saved for the user to correct.) */
+/* The light comes from where squama photo puts it (the upper left, x -0.35, y -0.55 in the
+ * photo), found from the shading as the body turns; the strip's light is that light in
+ * the body's frame, at the key light's elevation. */
+static void light_from_the_shading(void **state)
+{
+    (void)state;
+    const double truth = atan2(-0.55, -0.35), deg = atan(1.0) / 45;
+    for (unsigned seed = 1; seed <= 3; seed++) {
+        SqImage photo, mask;
+        SqPhotoTruth t;
+        synthetic_coil(&photo, &mask, &t, seed, 640, 480, SQ_BACKDROP_RANDOM, 0.6);
+        SqPrepared prep;
+        SqError err;
+        assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
+        double a = atan2(prep.light_xy[1], prep.light_xy[0]), off = fabs(remainder(a - truth, 360 * deg));
+        print_message("  seed %u: light (%.2f, %.2f), %.0f degrees off, %d rows\n", seed, prep.light_xy[0],
+                      prep.light_xy[1], off / deg, prep.light.rows);
+        assert_true(off < 20 * deg);
+        assert_true(hypot(prep.light_xy[0], prep.light_xy[1]) > 0.4);
+        assert_true(prep.light.rows > 0 && prep.light.rows <= SQ_FIT_LIGHT_ROWS);
+        for (int i = 0; i < prep.light.rows; i++) {
+            const float *d = prep.light.dir[i];
+            assert_true(fabs(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - 1) < 1e-4);
+            assert_true(d[2] > 0.7f && d[2] < 0.8f);
+        }
+        sq_fit_prepared_free(&prep);
+        sq_fit_truth_free(&t);
+        sq_image_free(&photo);
+        sq_image_free(&mask);
+    }
+}
+
 static void automatic_mask(void **state)
 {
     (void)state;
@@ -281,6 +313,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(straightening_follows_the_body),
         cmocka_unit_test(coiled_body_in_stretches),
+        cmocka_unit_test(light_from_the_shading),
         cmocka_unit_test(automatic_mask),
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(large_photo),

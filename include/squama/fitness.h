@@ -37,6 +37,17 @@ enum {
     SQ_FIT_PROFILE = SQ_FIT_STRIP_W / 2
 };
 
+/* The light a strip is seen under, as unit vectors in its tangent frame (x across, the
+ * way the columns run; y up the texture, against the rows; z out of the skin), along the
+ * body: dir[i] at strip row i * SQ_FIT_LIGHT_STEP, linear in between, back and forth
+ * past the ends. rows 0: the default key light, from the upper left (x -0.35, y 0.55,
+ * z 0.76). A photo's light (SqPrepared.light) is the middle of its body's. */
+enum { SQ_FIT_LIGHT_ROWS = 64, SQ_FIT_LIGHT_STEP = 4 };
+typedef struct SqLight {
+    int rows;
+    float dir[SQ_FIT_LIGHT_ROWS][3];
+} SqLight;
+
 typedef struct SqFeatures {
     int valid_pixels;
     float hist[SQ_FIT_HIST_BINS * SQ_FIT_HIST_BINS * SQ_FIT_HIST_BINS]; /* sums to 1 */
@@ -47,6 +58,9 @@ typedef struct SqFeatures {
     float across[SQ_FIT_BANDS];       /* the same across the body */
     float along_power, across_power;  /* total variance of lightness detail */
     float profile[SQ_FIT_PROFILE];    /* mean lightness across the body, folded, centred */
+    SqLight light;                    /* the light the strip was seen under (sq_fit_features
+                                       * leaves it at the key light; a photo's target takes
+                                       * SqPrepared.light): candidates are lit the same way */
 } SqFeatures;
 
 /* The objectives, in order. */
@@ -76,9 +90,9 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
  * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With the normal and roughness
  * maps the body is lit as a glossy cylinder the way `squama photo` lights it, specular
  * highlight included (its diffuse fall-off is divided out again with the photo's light
- * normalisation); without them (both NULL) the strip is the base colour as it is. */
+ * normalisation), by `light` (see SqLight; NULL or no rows: the key light); without the maps (both NULL) the strip is the base colour as it is. */
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
-                                const SqImage *roughness, double view_scale,
+                                const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err);
 
 /* ---- scoring a preset against a target (score.c) ---- */
@@ -88,9 +102,10 @@ enum { SQ_FIT_SCALES = 16 }; /* view scales tried: 0.25 * 2^(i/3), 0.25 to 8 */
 /* The view scale of grid step i. */
 double sq_fit_scale_at(int i);
 
-/* Renders p's base colour at size x size and scores it against the target's features
- * at every view scale of the grid, keeping the scale where the scale-dependent
- * objectives (shape, along) are lowest: objectives (SQ_OBJ_COUNT) and *view_scale.
+/* Renders p's maps at size x size and scores them, lit by the target's light, against
+ * the target's features at every view scale of the grid, keeping the scale where the
+ * scale-dependent objectives (shape, along) are lowest: objectives (SQ_OBJ_COUNT) and
+ * *view_scale.
  * A fixed_view > 0 scores at that view scale only (0: search the grid).
  * maps may be NULL, or reused between calls; best_strip (may be NULL) receives the strip
  * at the chosen scale. */
@@ -119,6 +134,10 @@ typedef struct SqPrepared {
     int nruns;              /* stretches of body straightened (between crossings) */
     int npoints;
     float *centre;          /* the runs' centre lines, x, y in pixels of the original */
+    SqLight light;          /* the light along the strip, from the shading's tilt as the
+                             * body turns (one light fixed in the photo) */
+    float light_xy[2];      /* that light's part in the photo's plane (x right, y down;
+                             * 0.65 long at most, 0 0: none found) */
 } SqPrepared;
 
 SqPrepOptions sq_fit_prep_options_default(void);
@@ -134,6 +153,9 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepO
                         SqPrepared *out, SqError *err);
 
 void sq_fit_prepared_free(SqPrepared *p);
+
+/* The target a prepared photo makes: its strip's features, with its light. */
+SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *err);
 
 /* ---- synthetic photos with ground truth (synth.c) ---- */
 
