@@ -100,7 +100,8 @@ int cmd_photo(int argc, char **argv)
     SqPhotoOptions po = sq_fit_photo_options_default();
     const char *out = NULL, *mask_path = NULL, *truth_path = NULL;
     int quality = 90, c;
-    double v;
+    long n;
+    SqError err;
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "ho:m:t:s:", opts, NULL)) != -1) {
@@ -112,10 +113,10 @@ int cmd_photo(int argc, char **argv)
             if (!cli_parse_size(optarg, 64, 8192, &po.width, &po.height))
                 return cli_usage("photo", "--size must be WxH with sides from 64 to 8192, got '%s'", optarg);
             break;
-        case O_SEED: /* unsigned: as a real, 0 to 2^32 - 1 whatever the width of long */
-            if (cli_parse_real("--seed", optarg, 0, 4294967295.0, &v, NULL) != 0 || v != (double)(unsigned)v)
-                return cli_usage("photo", "--seed must be an integer >= 0, got '%s'", optarg);
-            po.seed = (unsigned)v;
+        case O_SEED: /* as squama render's and fit's */
+            if (cli_parse_int("--seed", optarg, 0, 2147483647L, &n, &err) != 0)
+                return cli_usage("photo", "%s", err.what);
+            po.seed = (unsigned)n;
             break;
         case O_SCALE:
             if (cli_parse_real("--scale", optarg, 0.05, 20, &po.view_scale, NULL) != 0)
@@ -152,9 +153,9 @@ int cmd_photo(int argc, char **argv)
                 return cli_usage("photo", "--cast must be in [0, 1], got '%s'", optarg);
             break;
         case O_QUALITY:
-            if (cli_parse_real("--quality", optarg, 1, 100, &v, NULL) != 0 || v != (int)v)
-                return cli_usage("photo", "--quality must be an integer in [1, 100], got '%s'", optarg);
-            quality = (int)v;
+            if (cli_parse_int("--quality", optarg, 1, 100, &n, &err) != 0)
+                return cli_usage("photo", "%s", err.what);
+            quality = (int)n;
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
@@ -178,7 +179,6 @@ int cmd_photo(int argc, char **argv)
     }
 
     SqParams p;
-    SqError err;
     if (sq_preset_load(argv[optind], &p, NULL, &err) != SQ_OK)
         return cli_fail(&err);
     SqImage photo, mask;

@@ -30,7 +30,8 @@ static const char help[] =
     "Starting presets for an artist to tweak by hand.\n"
     "\n"
     "--category C draws a pool of random presets of pattern type C (none, longitudinal,\n"
-    "  transversal, spots, other_simple, complex) over the genes' suggested ranges, with\n"
+    "  transversal, spots, other_simple, complex; or layered: one layer of stripes, bands or\n"
+    "  spots over another simple pattern, the pair at random) over the genes' suggested ranges, with\n"
     "  colours from palettes of snake colours; drops the implausible ones (a pattern covering\n"
     "  almost none or almost all of the skin, or hardly differing from the background); and\n"
     "  picks the N most different from each other: farthest-point sampling on the feature\n"
@@ -94,7 +95,7 @@ static void on_fit_progress(const SqFitProgress *p, void *ctx)
     if (!x->tty || x->quiet)
         return;
     fprintf(stderr, "\r%s: fit %-7s gen %4d  %6ld evals  %5.0f s  best %.3f %-12s\033[K", x->what, p->stage,
-            p->generation, p->evals, p->elapsed, p->best_score, sq_pattern_type_name(p->category));
+            p->generation, p->evals, p->elapsed, p->best_score, sq_fit_kind_name(p->category));
     fflush(stderr);
 }
 
@@ -169,7 +170,7 @@ static cJSON *summary(const Seeding *s)
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", "squama-seeds/1");
     cJSON_AddStringToObject(root, "mode", mode_names[s->mode]);
-    cJSON_AddStringToObject(root, "category", sq_pattern_type_name(s->category));
+    cJSON_AddStringToObject(root, "category", sq_fit_kind_name(s->category));
     if (s->origin)
         cJSON_AddStringToObject(root, s->mode == MODE_PHOTO ? "photo" : "preset", s->origin);
     cJSON_AddNumberToObject(root, "seed", (double)s->seed);
@@ -195,7 +196,7 @@ static cJSON *summary(const Seeding *s)
         cJSON *e = cJSON_CreateObject();
         snprintf(file, sizeof file, "%02d.json", i);
         cJSON_AddStringToObject(e, "preset", file);
-        cJSON_AddStringToObject(e, "category", sq_pattern_type_name(c->params.Pattern_Type));
+        cJSON_AddStringToObject(e, "category", sq_fit_kind_name(sq_fit_kind_of(&c->params)));
         if (c->nearest_index >= 0) {
             cJSON_AddItemToObject(e, "nearest", sq__json_exact_number(c->nearest));
             snprintf(file, sizeof file, "%02d.json", c->nearest_index);
@@ -225,7 +226,7 @@ static cJSON *summary(const Seeding *s)
 static void preset_info(const Seeding *s, int i, SqPresetInfo *info)
 {
     const SqSeedCandidate *c = &s->r->picks[i];
-    const char *cat = sq_pattern_type_name(c->params.Pattern_Type);
+    const char *cat = sq_fit_kind_name(sq_fit_kind_of(&c->params));
     char near[96] = "";
     if (c->nearest_index >= 0)
         snprintf(near, sizeof near, "; feature distance to the nearest other pick (%02d) %.3f", c->nearest_index,
@@ -377,13 +378,13 @@ int cmd_seed(int argc, char **argv)
         switch (c) {
         case 'c':
             m = MODE_CATEGORY;
-            for (int k = 0; k < SQ_PATTERN_COUNT; k++)
-                if (strcmp(optarg, sq_pattern_type_name(k)) == 0)
+            for (int k = 0; k < SQ_FIT_KINDS; k++)
+                if (strcmp(optarg, sq_fit_kind_name(k)) == 0)
                     category = k;
             if (category < 0)
                 return cli_usage("seed",
                                  "--category is one of none, longitudinal, transversal, spots, other_simple, "
-                                 "complex; got '%s'",
+                                 "complex, layered; got '%s'",
                                  optarg);
             break;
         case O_NEAR: m = MODE_NEAR; origin = optarg; break;
@@ -481,7 +482,7 @@ int cmd_seed(int argc, char **argv)
         s.origin_name = oname;
     }
     if (mode == MODE_CATEGORY) {
-        px.what = sq_pattern_type_name(category);
+        px.what = sq_fit_kind_name(category);
         if (sq_seed_category(category, &so, &r, &err) != SQ_OK)
             rc = cli_fail(&err);
     } else if (mode == MODE_NEAR) {
@@ -495,7 +496,7 @@ int cmd_seed(int argc, char **argv)
         } else {
             if (oinfo->name[0])
                 s.origin_name = oinfo->name;
-            s.category = orig->Pattern_Type;
+            s.category = sq_fit_kind_of(orig);
             px.what = s.origin_name;
             if (sq_seed_near(orig, &so, &r, &err) != SQ_OK)
                 rc = cli_fail(&err);
@@ -523,7 +524,7 @@ int cmd_seed(int argc, char **argv)
                 rc = cli_fail(&err);
             else {
                 s.fit = &fit;
-                s.category = fit.best.params.Pattern_Type;
+                s.category = sq_fit_kind_of(&fit.best.params);
             }
         }
         sq_fit_prepared_free(&prep);
@@ -541,7 +542,7 @@ int cmd_seed(int argc, char **argv)
         printf("  preset   category      nearest  %s\n", mode == MODE_CATEGORY ? "" : mode == MODE_NEAR ? "to original" : "to photo");
         for (int i = 0; i < r.n; i++) {
             const SqSeedCandidate *p = &r.picks[i];
-            printf("  %02d.json  %-12s  %7.3f", i, sq_pattern_type_name(p->params.Pattern_Type),
+            printf("  %02d.json  %-12s  %7.3f", i, sq_fit_kind_name(sq_fit_kind_of(&p->params)),
                    p->nearest_index >= 0 ? p->nearest : 0.0);
             if (isfinite(p->to_origin))
                 printf("  %7.3f", p->to_origin);

@@ -172,15 +172,19 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
     }
     const Scheme *s = &schemes[k];
     family_colour(r, pick_from(r, s->bg), p->Background_Color);
-    double *list[4];
-    int n = sq__pattern_colours(&p->pattern, category, list);
-    for (int i = 0; i < n; i++) {
-        const int *from = i == 0 ? s->main : s->accent;
-        if (from[0] >= 0)
-            family_colour(r, pick_from(r, from), list[i]);
-        else /* tonal: a darker or, now and then, lighter shade of the skin */
-            shade(p->Background_Color, sq__rng_uniform(r) < 0.75 ? between(r, 0.35, 0.6) : between(r, 1.35, 1.7),
-                  list[i]);
+    for (int l = 0; l <= p->Pattern_Layers.count; l++) { /* the base pattern, then a layer's: */
+        double *list[8];                                 /* the main colour, then accents */
+        int n = l == 0 ? sq__pattern_colours(&p->pattern, category, list)
+                       : sq__pattern_colours(&p->Pattern_Layers.layer[l - 1].spec,
+                                             p->Pattern_Layers.layer[l - 1].spec.Pattern_Type, list);
+        for (int i = 0; i < n; i++) {
+            const int *from = i == 0 && l == 0 ? s->main : s->accent;
+            if (from[0] >= 0)
+                family_colour(r, pick_from(r, from), list[i]);
+            else /* tonal: a darker or, now and then, lighter shade of the skin */
+                shade(p->Background_Color, sq__rng_uniform(r) < 0.75 ? between(r, 0.35, 0.6) : between(r, 1.35, 1.7),
+                      list[i]);
+        }
     }
     family_colour(r, sq__rng_uniform(r) < 0.7 ? BLACK : DARK_BROWN, p->Outline_Color);
 }
@@ -208,7 +212,7 @@ static const struct {
  * the tile): a first band 4% to 35% of the repeat long; a second one, half the time nested
  * in the first (drawn over it: a black-yellow-black triad of a coral snake), else elsewhere
  * or absent; a third, a third of the time, likewise within the second. */
-static void transversal_bands(SqRng *r, SqParams *p)
+static void transversal_bands(SqRng *r, SqPatternSpec *p)
 {
     double c = sq__rng_uniform(r), w = between(r, 0.04, 0.35);
     for (int i = 0; i < 3; i++) {
@@ -255,7 +259,9 @@ static void draw_candidate(SqRng *r, const SqGenome *g, SqParams *p)
     sq_genome_decode(g, x, p);
     colour_scheme(r, p, g->category);
     if (g->category == SQ_PATTERN_TRANSVERSAL)
-        transversal_bands(r, p);
+        transversal_bands(r, &p->pattern);
+    if (g->layer_category == SQ_PATTERN_TRANSVERSAL)
+        transversal_bands(r, &p->Pattern_Layers.layer[0].spec);
     if (g->has_ca) {
         uint64_t s = sq__rng_next(r);
         sq_gp_ca_random(&s, &p->CA_Descriptor);
@@ -306,11 +312,14 @@ static int plausible_near(const SqSeedCandidate *c, const SqSeedCandidate *origi
     return c->coverage >= lo && c->coverage <= fmin(hi, 0.99) && c->contrast >= fmin(CONTRAST_MIN, 0.5 * origin->contrast);
 }
 
+/* A layered preset's layer must show over its base as a pattern does over the skin. */
 static int plausible(const SqSeedCandidate *c)
 {
     if (c->params.Pattern_Type == SQ_PATTERN_NONE)
         return 1;
-    return c->coverage >= COVERAGE_MIN && c->coverage <= COVERAGE_MAX && c->contrast >= CONTRAST_MIN;
+    return c->coverage >= COVERAGE_MIN && c->coverage <= COVERAGE_MAX && c->contrast >= CONTRAST_MIN &&
+           (c->params.Pattern_Layers.count == 0 ||
+            (c->layer_coverage >= COVERAGE_MIN && c->layer_contrast >= CONTRAST_MIN));
 }
 
 /* Renders a candidate and takes its features, its coverage (a second render, without the
@@ -329,7 +338,7 @@ static int evaluate(SqSeedCandidate *c, int size, int threads, SqTextures *maps,
         return -1;
     }
     sq_image_free(&strip);
-    c->contrast = c->coverage = 0;
+    c->contrast = c->coverage = c->layer_coverage = c->layer_contrast = 0;
     if (plain && c->params.Pattern_Type != SQ_PATTERN_NONE) {
         SqParams *q = malloc(sizeof *q);
         if (!q) {
@@ -338,12 +347,20 @@ static int evaluate(SqSeedCandidate *c, int size, int threads, SqTextures *maps,
         }
         *q = c->params;
         q->Pattern_Type = SQ_PATTERN_NONE;
+        q->Pattern_Layers.count = 0;
         q->Has_Outline = 0;
         SqStatus st = sq_gen_render_into(q, &go, plain, err);
+        if (st == SQ_OK)
+            pattern_change(&maps->basecolor, &plain->basecolor, &c->coverage, &c->contrast);
+        if (st == SQ_OK && c->params.Pattern_Layers.count > 0) { /* the base alone */
+            *q = c->params;
+            q->Pattern_Layers.count = 0;
+            if ((st = sq_gen_render_into(q, &go, plain, err)) == SQ_OK)
+                pattern_change(&maps->basecolor, &plain->basecolor, &c->layer_coverage, &c->layer_contrast);
+        }
         free(q);
         if (st != SQ_OK)
             return -1;
-        pattern_change(&maps->basecolor, &plain->basecolor, &c->coverage, &c->contrast);
     }
     SqFeatures self = c->features;
     double d = sq_seed_distance(&c->features, &self);
@@ -604,9 +621,11 @@ static int by_distance_to_origin(const void *a, const void *b)
     return memcmp(&x->params, &y->params, sizeof x->params);
 }
 
-/* Where candidates come from: random draws of a genome, or variations of an origin. */
+/* Where candidates come from: random draws of a genome (of one of ng, at random: the
+ * layered kind's pairs), or variations of an origin. */
 typedef struct Source {
     const SqGenome *g;
+    int ng;
     const SqParams *origin;       /* NULL: random draws */
     const SqSeedCandidate *anchor; /* the rendered origin: plausibility and distances */
 } Source;
@@ -631,7 +650,7 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
             if (src->origin)
                 vary(&rng, src->g, src->origin, o->distance, &batch[i].params);
             else
-                draw_candidate(&rng, src->g, &batch[i].params);
+                draw_candidate(&rng, &src->g[src->ng > 1 ? sq__rng_int(&rng, src->ng) : 0], &batch[i].params);
         }
         render_all(r, batch, want, ok, round * want, round * want + want);
         out->drawn += want;
@@ -647,7 +666,7 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
         }
     }
     if (out->npool < o->n) {
-        st = sq_error_set(err, SQ_ERR_LIMIT, sq_pattern_type_name(src->g->category),
+        st = sq_error_set(err, SQ_ERR_LIMIT, sq_fit_kind_name(src->ng > 1 ? SQ_FIT_LAYERED : src->g->category),
                           "only %d of %d %s drawn were plausible, fewer than the %d asked for%s", out->npool,
                           out->drawn, src->origin ? "variations" : "candidates", o->n,
                           src->origin ? "; try a smaller distance" : "");
@@ -676,25 +695,33 @@ done:
 SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
-    Run r;
-    SqGenome g;
     SqStatus st = check_options(o, 0, err);
     if (st != SQ_OK)
         return st;
-    if (category < 0 || category >= SQ_PATTERN_COUNT)
-        return sq_error_set(err, SQ_ERR_INVALID, "seed", "pattern type %d is none of the %d there are", category,
-                            (int)SQ_PATTERN_COUNT);
-    if ((st = sq_genome_init(&g, category, err)) != SQ_OK)
-        return st;
-    narrow(&g);
-    if ((st = run_begin(&r, o, out, err)) == SQ_OK) {
+    if (category < 0 || category > SQ_FIT_LAYERED)
+        return sq_error_set(err, SQ_ERR_INVALID, "seed", "kind %d is none of the %d there are", category,
+                            (int)SQ_FIT_KINDS);
+    /* one genome, or for the layered kind every pair the fit searches (one layer of
+     * stripes, bands or spots over another simple pattern), drawn at random */
+    SqGenome *g = malloc(sizeof *g * SQ_PATTERN_COUNT * SQ_PATTERN_COUNT);
+    int ng = 0;
+    if (!g)
+        return sq_error_set(err, SQ_ERR_NOMEM, "seed", "out of memory");
+    for (int base = 0; base < SQ_PATTERN_COUNT && st == SQ_OK; base++)
+        for (int layer = -1; layer < SQ_PATTERN_COUNT && st == SQ_OK; layer++)
+            if (category == SQ_FIT_LAYERED ? sq_genome_layerable(base, layer) : base == category && layer < 0)
+                if ((st = sq_genome_init_layered(&g[ng], base, layer, err)) == SQ_OK)
+                    narrow(&g[ng++]);
+    Run r = {0};
+    if (st == SQ_OK && (st = run_begin(&r, o, out, err)) == SQ_OK) {
         int want = o->n * (o->pool > 0 ? o->pool : 12);
         if (want < 2 * MEDOID_SAMPLE && o->n > 1)
             want = 2 * MEDOID_SAMPLE; /* a few presets still choose among enough */
-        const Source src = {.g = &g};
+        const Source src = {.g = g, .ng = ng};
         st = pool_and_pick(&r, &src, want, out, err);
     }
     run_end(&r);
+    free(g);
     if (st != SQ_OK)
         sq_seed_result_free(out);
     return st;

@@ -140,6 +140,8 @@ run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r" --threads 0; c
 run photo --help;         check "photo --help" 0 out "usage: squama photo"
 run photo "$SRC/presets/thesis/table_4_4_spots.json"; check "photo without -o" 2 err "say where the photo goes"
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --coil 2; check "photo bad coil" 2 err "--coil must be in [0, 1]"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --seed 1e3; check "photo --seed as a real" 2 err "--seed must be 0 to 2147483647, got '1e3'"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --quality 50.5; check "photo --quality not whole" 2 err "--quality must be 1 to 100, got '50.5'"
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --size 320x240 --seed 4 --backdrop litter --noise 0.01
 check "photo" 0 out "wrote $TMP/p.jpg, $TMP/p_mask.png, $TMP/p_truth.json"
 [ -s "$TMP/p.jpg" ] && [ -s "$TMP/p_mask.png" ] || { echo "FAIL: photo files missing"; fails=$((fails + 1)); }
@@ -157,6 +159,7 @@ check "render --preview" 0 out "wrote $TMP/r/pv/preview.png"
 # prepare and score (on the synthetic photo above)
 run prepare "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/prep" --debug
 check "prepare" 0 out "given mask, body"
+check "prepare names the light" 0 out "lit from"
 for f in mask.png strip.png prepared.json debug/4_centre_line.png debug/6_strip.png; do
   [ -s "$TMP/prep/$f" ] || { echo "FAIL: prepare did not write $f"; fails=$((fails + 1)); }
 done
@@ -247,6 +250,8 @@ run seed --near "$TMP/typo.json" -o "$TMP/sd"; check "seed malformed preset" 1 e
 mkdir -p "$TMP/busy" && touch "$TMP/busy/keep.txt"
 run seed --category spots -n 2 -o "$TMP/busy"; check "seed into a folder in use" 1 err "the output folder is not empty" err "($TMP/busy)"
 [ -e "$TMP/busy/00.json" ] && { echo "FAIL: seed wrote into a folder in use"; fails=$((fails + 1)); }
+run seed --category layered -n 1 --pool 4 -o "$TMP/sdl" --size 32 -j 2
+check "seed --category layered" 0 out "00.json  layered"
 run seed --category longitudinal -n 3 -o "$TMP/sd" --size 32 -j 2
 check "seed --category" 0 out "wrote $TMP/sd: 3 presets, seeds.json, sheet.png" out "00.json  longitudinal"
 for f in 00.json 01.json 02.json seeds.json sheet.png; do

@@ -96,6 +96,35 @@ static void category_presets(void **state)
     }
 }
 
+/* The layered kind: one layer of stripes, bands or spots over another simple pattern, the
+ * pairs mixed, and the layer showing over its base as a pattern over the skin. */
+static void layered_presets(void **state)
+{
+    (void)state;
+    SqSeedResult r;
+    SqError err;
+    SqSeedOptions o = small(6, 2);
+    assert_int_equal(sq_seed_category(SQ_FIT_LAYERED, &o, &r, &err), SQ_OK);
+    printf("  layered: drawn %d, implausible %d, pool %d\n", r.drawn, r.implausible, r.npool);
+    assert_int_equal(r.n, 6);
+    unsigned pairs = 0;
+    for (int i = 0; i < r.n; i++) {
+        const SqSeedCandidate *c = &r.picks[i];
+        assert_int_equal(sq_fit_kind_of(&c->params), SQ_FIT_LAYERED);
+        assert_int_equal(c->params.Pattern_Layers.count, 1);
+        const int base = c->params.Pattern_Type, layer = c->params.Pattern_Layers.layer[0].spec.Pattern_Type;
+        assert_true(sq_genome_layerable(base, layer));
+        pairs |= 1u << (base * SQ_PATTERN_COUNT + layer);
+        assert_int_equal(sq_params_validate(&c->params, &err), SQ_OK);
+        assert_true(c->coverage >= 0.05 && c->coverage <= 0.8 && c->contrast >= 20);
+        assert_true(c->layer_coverage >= 0.05 && c->layer_contrast >= 20);
+        printf("  %02d %s under %s: layer coverage %.2f contrast %.0f\n", i, sq_pattern_type_name(base),
+               sq_pattern_type_name(layer), c->layer_coverage, c->layer_contrast);
+    }
+    assert_true(__builtin_popcount(pairs) >= 3); /* not one pair six times */
+    sq_seed_result_free(&r);
+}
+
 /* Another seed, other presets. */
 static void seed_matters(void **state)
 {
@@ -242,7 +271,7 @@ static void bad_options(void **state)
     assert_int_equal(sq_seed_category(SQ_PATTERN_SPOTS, &o, &r, &err), SQ_ERR_INVALID);
     o.n = 2;
     assert_int_equal(sq_seed_category(99, &o, &r, &err), SQ_ERR_INVALID);
-    assert_contains(err.what, "pattern type 99");
+    assert_contains(err.what, "kind 99");
     SqParams p;
     sq_params_default(&p);
     o.distance = 0;
@@ -265,7 +294,7 @@ int main(void)
         cmocka_unit_test(distance_is_a_distance), cmocka_unit_test(category_presets),
         cmocka_unit_test(seed_matters),           cmocka_unit_test(picks_are_diverse),
         cmocka_unit_test(near_variations),        cmocka_unit_test(from_fit),
-        cmocka_unit_test(bad_options),
+        cmocka_unit_test(bad_options),            cmocka_unit_test(layered_presets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

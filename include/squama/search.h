@@ -350,6 +350,8 @@ typedef struct SqSeedCandidate {
     SqFeatures features;
     double coverage;    /* share of the texture the pattern changes (against the plain skin) */
     double contrast;    /* how much: the changed pixels' mean CIEDE2000 from the plain skin */
+    double layer_coverage, layer_contrast; /* a layered preset's layer: the same against its
+                                              base pattern alone (else 0) */
     double nearest;     /* feature distance to the nearest other pick (INFINITY when n = 1) */
     int nearest_index;  /* that pick's index, or -1 */
     double to_origin;   /* sq_seed_near: feature distance to the origin; NAN otherwise */
@@ -381,7 +383,9 @@ double sq_seed_objective_distance(const double *obj);
  * at view scale 1 (the maps may be NULL, or reused between calls). */
 SqStatus sq_seed_features(const SqParams *p, int size, SqTextures *maps, SqFeatures *f, SqError *err);
 
-/* n diverse, plausible presets of a category. On error nothing is allocated in out. */
+/* n diverse, plausible presets of a category, or of the layered kind (SQ_FIT_LAYERED: one
+ * layer of stripes, bands or spots over another simple pattern, the pair drawn at random
+ * per candidate, as the fit's layered niche). On error nothing is allocated in out. */
 SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
 
 /* n variations around origin (valid; any category), each with its distance to it. */
