@@ -632,9 +632,11 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
  * found by least squares over the rows (with a little ridge: a straight body shows only
  * the across part). Each row's light in the strip's frame is then G's direction across and
  * along the body there, at the key light's elevation (50 degrees), and its in-plane part
- * shrinks where the tilt is too small to be a directional light. Kept: the middle of the
- * path, as long as a candidate's strip, every SQ_FIT_LIGHT_STEP rows. tangent: the rows'
- * unit tangent in the photo (x NAN between runs). */
+ * shrinks where the tilt is too small to be a directional light. Kept, every
+ * SQ_FIT_LIGHT_STEP rows: as much of the path as a candidate's strip is long, in four
+ * pieces from along the body (each at the photo's own rate: the light turns as fast as
+ * there, and the candidate sees the lights of the whole body). tangent: the rows' unit
+ * tangent in the photo (x NAN between runs). */
 static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
                            float light_xy[2])
 {
@@ -681,23 +683,25 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
     const double lx = gx * k, ly = gy * k;
     light_xy[0] = (float)lx;
     light_xy[1] = (float)ly;
-    double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
-    int cnt[SQ_FIT_LIGHT_ROWS] = {0}, rows = 0;
-    enum { SPAN = SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP };
+    /* the rows along the body (not the gaps), and the pieces of them kept */
+    int *along = malloc(sizeof(int) * (size_t)n), rows = 0;
+    if (!along)
+        return;
     for (int y = 0; y < n; y++)
-        rows += isfinite(tangent[y][0]);
-    const int first = rows > SPAN ? (rows - SPAN) / 2 : 0, used = rows < SPAN ? rows : SPAN;
-    for (int y = 0, i = 0; y < n; y++)
-        if (isfinite(tangent[y][0])) {
-            const int bin = (i++ - first) / SQ_FIT_LIGHT_STEP;
-            if (bin < 0 || bin >= SQ_FIT_LIGHT_ROWS)
-                continue;
-            const double tx = tangent[y][0], ty = tangent[y][1];
-            acc[bin][0] += lx * -ty + ly * tx; /* across: the columns' way */
-            acc[bin][1] -= lx * tx + ly * ty;  /* up the texture: against the rows */
-            acc[bin][2] += UP;
-            cnt[bin]++;
-        }
+        if (isfinite(tangent[y][0]))
+            along[rows++] = y;
+    enum { SPAN = SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, PIECES = 4, PIECE = SPAN / PIECES };
+    const int used = rows < SPAN ? rows : SPAN;
+    double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
+    for (int r = 0; r < used; r++) {
+        const int p = r / PIECE, i = rows <= SPAN ? r : p * (rows - PIECE) / (PIECES - 1) + r % PIECE;
+        const double tx = tangent[along[i]][0], ty = tangent[along[i]][1];
+        double *o = acc[r / SQ_FIT_LIGHT_STEP];
+        o[0] += lx * -ty + ly * tx; /* across: the columns' way */
+        o[1] -= lx * tx + ly * ty;  /* up the texture: against the rows */
+        o[2] += UP;
+    }
+    free(along);
     light->rows = (used + SQ_FIT_LIGHT_STEP - 1) / SQ_FIT_LIGHT_STEP;
     for (int i = 0; i < light->rows; i++) {
         const double len = sqrt(acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);

@@ -41,7 +41,7 @@ enum {
  * way the columns run; y up the texture, against the rows; z out of the skin), along the
  * body: dir[i] at strip row i * SQ_FIT_LIGHT_STEP, linear in between, back and forth
  * past the ends. rows 0: the default key light, from the upper left (x -0.35, y 0.55,
- * z 0.76). A photo's light (SqPrepared.light) is the middle of its body's. */
+ * z 0.76). A photo's light (SqPrepared.light): four pieces of its body's. */
 enum { SQ_FIT_LIGHT_ROWS = 64, SQ_FIT_LIGHT_STEP = 4 };
 typedef struct SqLight {
     int rows;
