@@ -98,22 +98,27 @@ static int truth(const char *base, const char *category, long seed, const char *
     return 0;
 }
 
-/* A preset's features at a view scale under a light (NULL: the key light). */
-static int features(const SqParams *p, int seed, double view, const SqLight *light, SqTextures *maps,
-                    SqFeatures *out)
+/* A preset's features at a view scale: under the key light (texture space), and when
+ * photo is not NULL under the photo's light too (as the fit sees it against the photo). */
+static int features(const SqParams *p, int seed, double view, SqTextures *maps, SqFeatures *key,
+                    const SqFeatures *photo, SqFeatures *lit)
 {
     SqParams q = *p;
     q.Seed = seed;
     SqGenOptions go = sq_gen_options_default(SIZE);
     SqError e;
-    SqImage strip = {0};
-    if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK ||
-        sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, light, view, 0.5, ROWS, &strip, &e) != SQ_OK ||
-        sq_fit_features(&strip, NULL, out, &e) != SQ_OK) {
-        sq_image_free(&strip);
+    if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK)
         return fail(&e);
+    for (int k = 0; k < (photo ? 2 : 1); k++) {
+        SqImage strip = {0};
+        if (sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, k ? &photo->light : NULL, view,
+                                   0.5, ROWS, &strip, &e) != SQ_OK ||
+            sq_fit_features(&strip, NULL, k ? lit : key, &e) != SQ_OK) {
+            sq_image_free(&strip);
+            return fail(&e);
+        }
+        sq_image_free(&strip);
     }
-    sq_image_free(&strip);
     return 0;
 }
 
@@ -165,11 +170,10 @@ static int compare(char **argv)
     SqTextures maps = {0};
     SqFeatures ph, ft, fx, fy, px, py;
     double tfit = 0, tre = 0, pfit = 0, ptru = 0, pal = 0, obj[SQ_OBJ_COUNT];
-    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, NULL, &maps, &ft))
+    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, &maps, &ft, NULL, NULL))
         return 1;
     for (int s = 1; s <= RESEEDS; s++) { /* texture space under the key light, the photo under its own */
-        if (features(&f, 1000 + s, vf, NULL, &maps, &fx) || features(&t, 2000 + s, vt, NULL, &maps, &fy) ||
-            features(&f, 1000 + s, vf, &ph.light, &maps, &px) || features(&t, 2000 + s, vt, &ph.light, &maps, &py))
+        if (features(&f, 1000 + s, vf, &maps, &fx, &ph, &px) || features(&t, 2000 + s, vt, &maps, &fy, &ph, &py))
             return 1;
         tfit += distance(&ft, &fx, norm) / RESEEDS;
         tre += distance(&ft, &fy, norm) / RESEEDS;

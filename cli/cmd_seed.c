@@ -52,7 +52,7 @@ static const char help[] =
     "  sheet.png   a contact sheet of the presets, labelled\n"
     "\n"
     "options:\n"
-    "  -c, --category C     pattern type of the presets\n"
+    "  -c, --category C     pattern type of the presets, or layered\n"
     "      --near PRESET    variations around this preset\n"
     "      --from-photo P   the fitted front of this photo\n"
     "  -o, --output DIR     where the presets go (required; new or empty)\n"

@@ -217,7 +217,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
-    cJSON_AddItemToObject(in, "light", cJSON_CreateFloatArray(prep->light_xy, 2)); /* in the photo's plane */
+    const double lxy[2] = {round(prep->light_xy[0] * 1e3) / 1e3, round(prep->light_xy[1] * 1e3) / 1e3};
+    cJSON_AddItemToObject(in, "light", cJSON_CreateDoubleArray(lxy, 2)); /* in the photo's plane */
     cJSON *se = cJSON_AddObjectToObject(root, "search");
     cJSON_AddStringToObject(se, "method", sq_fit_method_name(fo->method));
     cJSON_AddNumberToObject(se, "seed", (double)fo->seed);

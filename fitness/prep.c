@@ -630,13 +630,14 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
  * that component follows the light's direction in the photo. One light fixed in the
  * photo: the tilt of each row is t . G, t the row's across direction in the photo, G
  * found by least squares over the rows (with a little ridge: a straight body shows only
- * the across part). Each row's light in the strip's frame is then G's direction across and
- * along the body there, at the key light's elevation (50 degrees), and its in-plane part
- * shrinks where the tilt is too small to be a directional light. Kept, every
+ * the across part). The light's part in the photo's plane is G's direction, as long as
+ * the key light's (0.65, 50 degrees up) when G is as large as that light's tilt, shorter
+ * (the light higher) when the shading tilts less: a soft or overhead light. Each row's
+ * light in the strip's frame is that light across and along the body there. Kept, every
  * SQ_FIT_LIGHT_STEP rows: as much of the path as a candidate's strip is long, in four
  * pieces from along the body (each at the photo's own rate: the light turns as fast as
- * there, and the candidate sees the lights of the whole body). tangent: the rows' unit
- * tangent in the photo (x NAN between runs). */
+ * there, and the candidate sees the lights of the whole body), the rows between runs
+ * skipped. tangent: the rows' unit tangent in the photo (x NAN between runs). */
 static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
                            float light_xy[2])
 {
@@ -691,6 +692,7 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
         if (isfinite(tangent[y][0]))
             along[rows++] = y;
     enum { SPAN = SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, PIECES = 4, PIECE = SPAN / PIECES };
+    _Static_assert(PIECE % SQ_FIT_LIGHT_STEP == 0, "a piece is whole light rows");
     const int used = rows < SPAN ? rows : SPAN;
     double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
     for (int r = 0; r < used; r++) {

@@ -6,6 +6,7 @@
 #include "fitness_internal.h"
 
 enum { CANDIDATE_ROWS = 256 };
+_Static_assert(CANDIDATE_ROWS == SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, "a photo's light spans a candidate's strip");
 
 double sq_fit_scale_at(int i)
 {

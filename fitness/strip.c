@@ -14,7 +14,9 @@ enum { SUB_MAX = 4 }; /* sub-samples per strip pixel and direction, at most */
 static void light_at(const SqLight *light, int j, float L[3], float H[3])
 {
     float l[3] = {KEY[0], KEY[1], KEY[2]};
+    int key = 1;
     if (light && light->rows > 0) {
+        key = 0;
         const int m = light->rows < SQ_FIT_LIGHT_ROWS ? light->rows : SQ_FIT_LIGHT_ROWS;
         float x = (float)j / SQ_FIT_LIGHT_STEP;
         if (m > 1) { /* back and forth: x in [0, m - 1] */
@@ -31,10 +33,13 @@ static void light_at(const SqLight *light, int j, float L[3], float H[3])
     if (!(ll > 1e-6f) || !isfinite(ll)) { /* a broken light: the key's */
         memcpy(l, KEY, sizeof l);
         ll = sqrtf(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        key = 1;
     }
-    H[0] = l[0], H[1] = l[1], H[2] = l[2] + 1.0f; /* (the key is 1.001 long: as it always was) */
     for (int k = 0; k < 3; k++)
         L[k] = l[k] / ll;
+    /* the half vector of the unit light; the key's of its 1.001-long self, as it always was */
+    const float *h = key ? l : L;
+    H[0] = h[0], H[1] = h[1], H[2] = h[2] + 1.0f;
     const float hl = sqrtf(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]);
     for (int k = 0; k < 3; k++)
         H[k] /= hl;

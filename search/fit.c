@@ -17,6 +17,7 @@ enum {
     ARCHIVE_MAX = 64,
     CATEGORIES = SQ_FIT_KINDS /* the kinds of skin the fit tells apart (sq_fit_kind_of) */
 };
+_Static_assert(STRIP_ROWS == SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, "a photo's light spans a candidate's strip");
 
 /* A simpler category (see simplicity()) scoring within this fraction of the best is
  * preferred to it. */

@@ -174,21 +174,21 @@ SqStatus sq_genome_of(SqGenome *g, const SqParams *p, SqError *err)
     return sq_genome_init_layered(g, p->Pattern_Type, p->Pattern_Layers.layer[0].spec.Pattern_Type, err);
 }
 
-static void *gene_ptr(const SqGene *e, SqParams *p)
+void *sq__gene_ptr(const SqGene *e, SqParams *p)
 {
     return e->layer >= 0 ? sq_param_layer_ptr(&p->Pattern_Layers.layer[e->layer], e->spec) : sq_param_ptr(p, e->spec);
 }
 
 static double *field(const SqGene *e, SqParams *p)
 {
-    return (double *)gene_ptr(e, p) + e->comp;
+    return (double *)sq__gene_ptr(e, p) + e->comp;
 }
 
 void sq_genome_encode(const SqGenome *g, const SqParams *p, double *x)
 {
     for (int i = 0; i < g->n; i++) {
         const SqGene *e = &g->genes[i];
-        const void *ptr = gene_ptr(e, (SqParams *)p); /* read only */
+        const void *ptr = sq__gene_ptr(e, (SqParams *)p); /* read only */
         double v = (e->spec->type == SQ_PT_INT || e->spec->type == SQ_PT_BOOL || e->spec->type == SQ_PT_ENUM)
                        ? *(const int *)ptr
                        : ((const double *)ptr)[e->comp];
@@ -220,13 +220,13 @@ void sq_genome_decode(const SqGenome *g, const double *x, SqParams *p)
         double t = fmin(fmax(x[i], 0), 1);
         if (e->levels) {
             int level = (int)fmin(floor(t * e->levels), e->levels - 1);
-            *(int *)gene_ptr(e, p) = (int)e->lo + level;
+            *(int *)sq__gene_ptr(e, p) = (int)e->lo + level;
             continue;
         }
         double v = e->kind == SQ_GENE_LOG ? e->lo * pow(e->hi / e->lo, t) : e->lo + t * (e->hi - e->lo);
         v = fmin(fmax(v, e->spec->min), e->spec->max);
         if (e->spec->type == SQ_PT_INT)
-            *(int *)gene_ptr(e, p) = (int)lround(v);
+            *(int *)sq__gene_ptr(e, p) = (int)lround(v);
         else
             *field(e, p) = v;
     }

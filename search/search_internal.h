@@ -9,4 +9,8 @@
  * last; returns how many. */
 int sq__pattern_colours(SqPatternSpec *p, int category, double **list);
 
+struct SqGene;
+/* Where a gene lives in p: the base's parameter, or its layer's. */
+void *sq__gene_ptr(const struct SqGene *e, SqParams *p);
+
 #endif

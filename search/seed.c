@@ -312,14 +312,16 @@ static int plausible_near(const SqSeedCandidate *c, const SqSeedCandidate *origi
     return c->coverage >= lo && c->coverage <= fmin(hi, 0.99) && c->contrast >= fmin(CONTRAST_MIN, 0.5 * origin->contrast);
 }
 
-/* A layered preset's layer must show over its base as a pattern does over the skin. */
+/* A layered preset's layer must show over its base as a pattern does over the skin,
+ * and leave some of the base to show. */
 static int plausible(const SqSeedCandidate *c)
 {
     if (c->params.Pattern_Type == SQ_PATTERN_NONE)
         return 1;
     return c->coverage >= COVERAGE_MIN && c->coverage <= COVERAGE_MAX && c->contrast >= CONTRAST_MIN &&
            (c->params.Pattern_Layers.count == 0 ||
-            (c->layer_coverage >= COVERAGE_MIN && c->layer_contrast >= CONTRAST_MIN));
+            (c->layer_coverage >= COVERAGE_MIN && c->layer_coverage <= COVERAGE_MAX &&
+             c->layer_contrast >= CONTRAST_MIN));
 }
 
 /* Renders a candidate and takes its features, its coverage (a second render, without the
@@ -584,24 +586,24 @@ static void vary(SqRng *r, const SqGenome *g, const SqParams *origin, double d, 
         const SqParamSpec *s = e->spec;
         if (s->type == SQ_PT_COLOR) {
             if (e->comp == 0)
-                vary_colour(r, d, (double *)sq_param_ptr(p, s));
+                vary_colour(r, d, (double *)sq__gene_ptr(e, p));
             continue;
         }
         if (strncmp(s->name, "Transversal_BeginEnd", 20) == 0) {
             if (e->comp == 0)
-                vary_band(r, d, (double *)sq_param_ptr(p, s));
+                vary_band(r, d, (double *)sq__gene_ptr(e, p));
             continue;
         }
         const double step = d * sq__rng_normal(r);
         if (s->type == SQ_PT_ENUM)
             continue;
         if (s->type == SQ_PT_INT || s->type == SQ_PT_BOOL) {
-            int *v = (int *)sq_param_ptr(p, s);
+            int *v = (int *)sq__gene_ptr(e, p);
             double nv = e->levels ? *v + lround(step * e->levels) : lround(*v + step * (e->hi - e->lo));
             *v = (int)fmin(fmax(nv, s->min), s->max);
             continue;
         }
-        double *v = (double *)sq_param_ptr(p, s) + e->comp;
+        double *v = (double *)sq__gene_ptr(e, p) + e->comp;
         double nv;
         if (e->kind == SQ_GENE_LOG)
             nv = (*v < e->lo && step < 0) ? *v : fmax(*v, e->lo) * pow(e->hi / e->lo, step);
@@ -626,6 +628,7 @@ static int by_distance_to_origin(const void *a, const void *b)
 typedef struct Source {
     const SqGenome *g;
     int ng;
+    int kind;                     /* what they are (SqPatternType or SQ_FIT_LAYERED) */
     const SqParams *origin;       /* NULL: random draws */
     const SqSeedCandidate *anchor; /* the rendered origin: plausibility and distances */
 } Source;
@@ -666,7 +669,7 @@ static SqStatus pool_and_pick(Run *r, const Source *src, int want, SqSeedResult 
         }
     }
     if (out->npool < o->n) {
-        st = sq_error_set(err, SQ_ERR_LIMIT, sq_fit_kind_name(src->ng > 1 ? SQ_FIT_LAYERED : src->g->category),
+        st = sq_error_set(err, SQ_ERR_LIMIT, sq_fit_kind_name(src->kind),
                           "only %d of %d %s drawn were plausible, fewer than the %d asked for%s", out->npool,
                           out->drawn, src->origin ? "variations" : "candidates", o->n,
                           src->origin ? "; try a smaller distance" : "");
@@ -717,7 +720,7 @@ SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *ou
         int want = o->n * (o->pool > 0 ? o->pool : 12);
         if (want < 2 * MEDOID_SAMPLE && o->n > 1)
             want = 2 * MEDOID_SAMPLE; /* a few presets still choose among enough */
-        const Source src = {.g = g, .ng = ng};
+        const Source src = {.g = g, .ng = ng, .kind = category};
         st = pool_and_pick(&r, &src, want, out, err);
     }
     run_end(&r);
@@ -737,7 +740,10 @@ SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResu
         return st;
     if ((st = sq_params_validate(origin, err)) != SQ_OK)
         return st;
-    if ((st = sq_genome_init(&g, origin->Pattern_Type, err)) != SQ_OK)
+    /* the genome the fit would search (a layered preset's layer included); a stack of
+     * several layers, which the fit does not search, varies its base only */
+    if (origin->Pattern_Layers.count > 1 ? (st = sq_genome_init(&g, origin->Pattern_Type, err)) != SQ_OK
+                                         : (st = sq_genome_of(&g, origin, err)) != SQ_OK)
         return st;
     SqSeedCandidate *orig = malloc(sizeof *orig);
     if (!orig)
@@ -748,7 +754,7 @@ SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResu
             st = err && err->status != SQ_OK ? err->status : SQ_ERR_INVALID;
         } else {
             /* held to plausible(), or to the origin's own measures when it fails them */
-            const Source src = {.g = &g, .origin = origin, .anchor = orig};
+            const Source src = {.g = &g, .ng = 1, .kind = sq_fit_kind_of(origin), .origin = origin, .anchor = orig};
             st = pool_and_pick(&r, &src, o->n * (o->pool > 0 ? o->pool : 4), out, err);
         }
     }

@@ -250,7 +250,7 @@ run seed --near "$TMP/typo.json" -o "$TMP/sd"; check "seed malformed preset" 1 e
 mkdir -p "$TMP/busy" && touch "$TMP/busy/keep.txt"
 run seed --category spots -n 2 -o "$TMP/busy"; check "seed into a folder in use" 1 err "the output folder is not empty" err "($TMP/busy)"
 [ -e "$TMP/busy/00.json" ] && { echo "FAIL: seed wrote into a folder in use"; fails=$((fails + 1)); }
-run seed --category layered -n 1 --pool 4 -o "$TMP/sdl" --size 32 -j 2
+run seed --category layered -n 1 --pool 8 -o "$TMP/sdl" --size 32 -j 2
 check "seed --category layered" 0 out "00.json  layered"
 run seed --category longitudinal -n 3 -o "$TMP/sd" --size 32 -j 2
 check "seed --category" 0 out "wrote $TMP/sd: 3 presets, seeds.json, sheet.png" out "00.json  longitudinal"

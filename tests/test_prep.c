@@ -133,8 +133,6 @@ static void coiled_body_in_stretches(void **state)
     assert_true(failed <= 1); /* the tightest coils may leave no body width clean */
 }
 
-/* GrabCut finds the snake on bare soil. (In grass or leaf litter it often does not: the
- * automatic mask is a best effort, saved for the user to correct.) */
 /* The light comes from where squama photo puts it (the upper left, x -0.35, y -0.55 in the
  * photo), found from the shading as the body turns; the strip's light is that light in
  * the body's frame, at the key light's elevation. */
@@ -158,7 +156,7 @@ static void light_from_the_shading(void **state)
         for (int i = 0; i < prep.light.rows; i++) {
             const float *d = prep.light.dir[i];
             assert_true(fabs(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - 1) < 1e-4);
-            assert_true(d[2] > 0.7f && d[2] < 0.8f);
+            assert_true(d[2] > 0.7f && d[2] < 0.8f); /* the key's elevation: the full tilt found */
         }
         sq_fit_prepared_free(&prep);
         sq_fit_truth_free(&t);
@@ -167,6 +165,8 @@ static void light_from_the_shading(void **state)
     }
 }
 
+/* GrabCut finds the snake on bare soil. (In grass or leaf litter it often does not: the
+ * automatic mask is a best effort, saved for the user to correct.) */
 static void automatic_mask(void **state)
 {
     (void)state;

@@ -27,6 +27,18 @@ static double min_pairwise(const SqSeedCandidate *const *c, int n)
     return m;
 }
 
+/* A preset file that loads back to the same parameters. */
+static void loads_back(const SqParams *p)
+{
+    SqError err;
+    char *text = sq_preset_to_json(p, NULL, &err);
+    assert_non_null(text);
+    SqParams back;
+    assert_int_equal(sq_preset_parse(text, strlen(text), "seed", &back, NULL, &err), SQ_OK);
+    assert_true(sq_params_equal(&back, p));
+    free(text);
+}
+
 static void distance_is_a_distance(void **state)
 {
     (void)state;
@@ -79,13 +91,7 @@ static void category_presets(void **state)
             /* thread count independent, to the bit */
             assert_true(sq_params_equal(&c->params, &r2.picks[i].params));
             assert_memory_equal(&c->features, &r2.picks[i].features, sizeof c->features);
-            /* a preset file that loads back to the same parameters */
-            char *text = sq_preset_to_json(&c->params, NULL, &err);
-            assert_non_null(text);
-            SqParams back;
-            assert_int_equal(sq_preset_parse(text, strlen(text), "seed", &back, NULL, &err), SQ_OK);
-            assert_true(sq_params_equal(&back, &c->params));
-            free(text);
+            loads_back(&c->params);
         }
         /* no two picks the same candidate */
         for (int i = 0; i < r1.n; i++)
@@ -97,14 +103,16 @@ static void category_presets(void **state)
 }
 
 /* The layered kind: one layer of stripes, bands or spots over another simple pattern, the
- * pairs mixed, and the layer showing over its base as a pattern over the skin. */
+ * pairs mixed, the layer showing over its base as a pattern over the skin; the same on 1
+ * and 2 threads; presets that load back as they were. */
 static void layered_presets(void **state)
 {
     (void)state;
-    SqSeedResult r;
+    SqSeedResult r, r1;
     SqError err;
-    SqSeedOptions o = small(6, 2);
+    SqSeedOptions o = small(6, 2), o1 = small(6, 1);
     assert_int_equal(sq_seed_category(SQ_FIT_LAYERED, &o, &r, &err), SQ_OK);
+    assert_int_equal(sq_seed_category(SQ_FIT_LAYERED, &o1, &r1, &err), SQ_OK);
     printf("  layered: drawn %d, implausible %d, pool %d\n", r.drawn, r.implausible, r.npool);
     assert_int_equal(r.n, 6);
     unsigned pairs = 0;
@@ -117,12 +125,17 @@ static void layered_presets(void **state)
         pairs |= 1u << (base * SQ_PATTERN_COUNT + layer);
         assert_int_equal(sq_params_validate(&c->params, &err), SQ_OK);
         assert_true(c->coverage >= 0.05 && c->coverage <= 0.8 && c->contrast >= 20);
-        assert_true(c->layer_coverage >= 0.05 && c->layer_contrast >= 20);
+        assert_true(c->layer_coverage >= 0.05 && c->layer_coverage <= 0.8 && c->layer_contrast >= 20);
+        assert_true(sq_params_equal(&c->params, &r1.picks[i].params));
+        loads_back(&c->params);
+        for (int j = 0; j < i; j++)
+            assert_false(sq_params_equal(&r.picks[j].params, &c->params));
         printf("  %02d %s under %s: layer coverage %.2f contrast %.0f\n", i, sq_pattern_type_name(base),
                sq_pattern_type_name(layer), c->layer_coverage, c->layer_contrast);
     }
     assert_true(__builtin_popcount(pairs) >= 3); /* not one pair six times */
     sq_seed_result_free(&r);
+    sq_seed_result_free(&r1);
 }
 
 /* Another seed, other presets. */
@@ -218,6 +231,23 @@ static void near_variations(void **state)
         prev = mean;
         sq_seed_result_free(&r);
     }
+    /* a layered preset: its layer's genes move too, the layer's type stays */
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/layered/garter_snake.json"), &origin, NULL,
+                                    &err),
+                     SQ_OK);
+    SqSeedResult r;
+    SqSeedOptions o = small(3, 2);
+    assert_int_equal(sq_seed_near(&origin, &o, &r, &err), SQ_OK);
+    const SqPatternLayer *ol = &origin.Pattern_Layers.layer[0];
+    for (int i = 0; i < r.n; i++) {
+        const SqPatternLayer *l = &r.picks[i].params.Pattern_Layers.layer[0];
+        assert_int_equal(r.picks[i].params.Pattern_Layers.count, 1);
+        assert_int_equal(l->spec.Pattern_Type, ol->spec.Pattern_Type);
+        assert_true(l->Layer_Opacity != ol->Layer_Opacity ||
+                    memcmp(l->spec.Longitudinal_StripesColor, ol->spec.Longitudinal_StripesColor,
+                           sizeof ol->spec.Longitudinal_StripesColor) != 0);
+    }
+    sq_seed_result_free(&r);
 }
 
 /* The front of a fit as seeds: in order, each once, each with its objectives' distance to

@@ -39,9 +39,11 @@ enum {
 
 /* The light a strip is seen under, as unit vectors in its tangent frame (x across, the
  * way the columns run; y up the texture, against the rows; z out of the skin), along the
- * body: dir[i] at strip row i * SQ_FIT_LIGHT_STEP, linear in between, back and forth
- * past the ends. rows 0: the default key light, from the upper left (x -0.35, y 0.55,
- * z 0.76). A photo's light (SqPrepared.light): four pieces of its body's. */
+ * body: a candidate's strip row j takes dir[j / SQ_FIT_LIGHT_STEP], linear in between,
+ * back and forth past the ends. rows 0: the default key light, from the upper left
+ * (x -0.35, y 0.55, z 0.76). A photo's light (SqPrepared.light) is four pieces of the
+ * light along its body, each at the body's own rate, 256 strip rows in all (a
+ * candidate's strip as long): the light there, not at the photo strip's row 4i. */
 enum { SQ_FIT_LIGHT_ROWS = 64, SQ_FIT_LIGHT_STEP = 4 };
 typedef struct SqLight {
     int rows;
@@ -90,7 +92,8 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
  * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With the normal and roughness
  * maps the body is lit as a glossy cylinder the way `squama photo` lights it, specular
  * highlight included (its diffuse fall-off is divided out again with the photo's light
- * normalisation), by `light` (see SqLight; NULL or no rows: the key light); without the maps (both NULL) the strip is the base colour as it is. */
+ * normalisation), by `light` (see SqLight; NULL or no rows: the key light); without the
+ * maps (both NULL) the strip is the base colour as it is. */
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err);
@@ -134,8 +137,8 @@ typedef struct SqPrepared {
     int nruns;              /* stretches of body straightened (between crossings) */
     int npoints;
     float *centre;          /* the runs' centre lines, x, y in pixels of the original */
-    SqLight light;          /* the light along the strip, from the shading's tilt as the
-                             * body turns (one light fixed in the photo) */
+    SqLight light;          /* the light along the body (see SqLight), from the shading's
+                             * tilt as the body turns (one light fixed in the photo) */
     float light_xy[2];      /* that light's part in the photo's plane (x right, y down;
                              * 0.65 long at most, 0 0: none found) */
 } SqPrepared;
