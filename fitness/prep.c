@@ -453,6 +453,13 @@ static SqStatus fail(SqPrepared *out, SqStatus st)
     return st;
 }
 
+/* The linear luminance of an sRGB pixel (after sq__lab_init). */
+static float luminance(const float *p)
+{
+    return 0.2126f * sq__srgb_to_linear_lut(p[0]) + 0.7152f * sq__srgb_to_linear_lut(p[1]) +
+           0.0722f * sq__srgb_to_linear_lut(p[2]);
+}
+
 /* The slope over t in [-1, 1] across a strip row of lv (log luminance), by least squares
  * over the valid pixels (valid NULL: all); NAN where fewer than half are. */
 static float row_tilt(const double *lv, const float *valid)
@@ -497,8 +504,7 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     }
     for (int i = 0; i < n * W; i++) {
         const float *p = strip->px + 3 * (size_t)i;
-        lum[i] = 0.2126f * sq__srgb_to_linear_lut(p[0]) + 0.7152f * sq__srgb_to_linear_lut(p[1]) +
-                 0.0722f * sq__srgb_to_linear_lut(p[2]) + 1e-4f;
+        lum[i] = luminance(p) + 1e-4f;
     }
     /* across: least squares of log median = a + b t + c t^2 */
     double S[5] = {0}, T[3] = {0};
@@ -654,8 +660,7 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
         double lv[W];
         for (int x = 0; x < W; x++) {
             const float *p = strip->px + 3 * ((size_t)y * W + x);
-            lv[x] = log(0.2126 * sq__srgb_to_linear_lut(p[0]) + 0.7152 * sq__srgb_to_linear_lut(p[1]) +
-                        0.0722 * sq__srgb_to_linear_lut(p[2]) + 1e-3);
+            lv[x] = log(luminance(p) + 1e-3);
         }
         tilt[y] = isfinite(tangent[y][0]) ? row_tilt(lv, valid->px + (size_t)y * W) : NAN;
     }
@@ -691,7 +696,7 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
     for (int y = 0; y < n; y++)
         if (isfinite(tangent[y][0]))
             along[rows++] = y;
-    enum { SPAN = SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, PIECES = 4, PIECE = SPAN / PIECES };
+    enum { SPAN = SQ_FIT_CANDIDATE_ROWS, PIECES = 4, PIECE = SPAN / PIECES };
     _Static_assert(PIECE % SQ_FIT_LIGHT_STEP == 0, "a piece is whole light rows");
     const int used = rows < SPAN ? rows : SPAN;
     double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};

@@ -5,8 +5,6 @@
 
 #include "fitness_internal.h"
 
-enum { CANDIDATE_ROWS = 256 };
-_Static_assert(CANDIDATE_ROWS == SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, "a photo's light spans a candidate's strip");
 
 double sq_fit_scale_at(int i)
 {
@@ -33,7 +31,7 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
         SqImage strip;
         SqFeatures f;
         double o[SQ_OBJ_COUNT];
-        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &target->light, vs, band_centre, CANDIDATE_ROWS,
+        st = sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &target->light, vs, band_centre, SQ_FIT_CANDIDATE_ROWS,
                                     &strip, err);
         if (st != SQ_OK)
             break;

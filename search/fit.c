@@ -13,11 +13,9 @@
 #include "squama/search.h"
 
 enum {
-    STRIP_ROWS = 256,       /* candidate strip length, as sq_fit_score uses */
     ARCHIVE_MAX = 64,
     CATEGORIES = SQ_FIT_KINDS /* the kinds of skin the fit tells apart (sq_fit_kind_of) */
 };
-_Static_assert(STRIP_ROWS == SQ_FIT_LIGHT_ROWS * SQ_FIT_LIGHT_STEP, "a photo's light spans a candidate's strip");
 
 /* A simpler category (see simplicity()) scoring within this fraction of the best is
  * preferred to it. */
@@ -154,7 +152,7 @@ static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqT
     SqFeatures feat;
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
         sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &f->target->light, c->view_scale, f->o.band_centre,
-                               STRIP_ROWS, &strip, NULL) != SQ_OK ||
+                               SQ_FIT_CANDIDATE_ROWS, &strip, NULL) != SQ_OK ||
         sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);
         set_failed(c);

@@ -173,10 +173,9 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
     const Scheme *s = &schemes[k];
     family_colour(r, pick_from(r, s->bg), p->Background_Color);
     for (int l = 0; l <= p->Pattern_Layers.count; l++) { /* the base pattern, then a layer's: */
-        double *list[8];                                 /* the main colour, then accents */
-        int n = l == 0 ? sq__pattern_colours(&p->pattern, category, list)
-                       : sq__pattern_colours(&p->Pattern_Layers.layer[l - 1].spec,
-                                             p->Pattern_Layers.layer[l - 1].spec.Pattern_Type, list);
+        SqPatternSpec *spec = l ? &p->Pattern_Layers.layer[l - 1].spec : &p->pattern;
+        double *list[8]; /* the main colour, then accents */
+        int n = sq__pattern_colours(spec, l ? spec->Pattern_Type : category, list);
         for (int i = 0; i < n; i++) {
             const int *from = i == 0 && l == 0 ? s->main : s->accent;
             if (from[0] >= 0)

@@ -61,29 +61,40 @@ static int dominated(const double *a, const double *b) /* a dominated by b */
     return better;
 }
 
-static void check_photo_of(const char *name, unsigned seed)
+/* A synthetic photo of p (640 x 480, its maps at 256), prepared with its mask: the
+ * preparation, the target it makes, and the truth (may be NULL). */
+static void prepared_photo(const char *what, const SqParams *p, unsigned seed, double coil, double noise,
+                           SqPrepared *prep, SqFeatures *target, SqPhotoTruth *truth)
 {
-    SqParams p;
-    load(name, &p);
     SqPhotoOptions po = sq_fit_photo_options_default();
     po.width = 640;
     po.height = 480;
     po.seed = seed;
-    po.coil = 0.3;
-    po.noise = 0.01;
+    po.coil = coil;
+    po.noise = noise;
     po.texture_size = 256;
     SqImage photo, mask;
+    SqError err;
+    assert_int_equal(sq_fit_synth_photo(p, &po, &photo, &mask, truth, &err), SQ_OK);
+    if (sq_fit_prepare(&photo, &mask, NULL, prep, &err) != SQ_OK)
+        fail_msg("%s: prepare: %s", what, err.what);
+    assert_int_equal(sq_fit_photo_target(prep, target, &err), SQ_OK);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+}
+
+static void check_photo_of(const char *name, unsigned seed)
+{
+    SqParams p;
+    load(name, &p);
     SqPhotoTruth truth;
     SqPrepared prep;
     SqFeatures target;
     SqError err;
-    assert_int_equal(sq_fit_synth_photo(&p, &po, &photo, &mask, &truth, &err), SQ_OK);
-    if (sq_fit_prepare(&photo, &mask, NULL, &prep, &err) != SQ_OK)
-        fail_msg("%s: prepare: %s", name, err.what);
+    prepared_photo(name, &p, seed, 0.3, 0.01, &prep, &target, &truth);
     double width_err = fabs(prep.body_width - 2 * truth.body_radius) / (2 * truth.body_radius);
     if (width_err > 0.1)
         fail_msg("%s: body width %.1f, truth %.1f", name, prep.body_width, 2 * truth.body_radius);
-    assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
 
     /* the cases */
     Case cases[12];
@@ -179,8 +190,6 @@ static void check_photo_of(const char *name, unsigned seed)
                      cases[i].what);
     }
     sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
     sq_fit_truth_free(&truth);
 }
 
@@ -227,20 +236,11 @@ static void lit_like_the_photo(void **state)
         load(photos[i % 3].name, &p);
         if (i == 3)
             p.Pattern_Type = SQ_PATTERN_NONE;
-        SqPhotoOptions po = sq_fit_photo_options_default();
-        po.width = 640;
-        po.height = 480;
-        po.seed = photos[i % 3].seed + (i == 3);
-        po.coil = 0.7;
-        po.texture_size = 256;
-        SqImage photo, mask;
         SqPhotoTruth truth;
         SqPrepared prep;
         SqFeatures target;
         SqError err;
-        assert_int_equal(sq_fit_synth_photo(&p, &po, &photo, &mask, &truth, &err), SQ_OK);
-        assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
-        assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
+        prepared_photo(photos[i % 3].name, &p, photos[i % 3].seed + (i == 3), 0.7, 0, &prep, &target, &truth);
         assert_true(target.light.rows > 0);
         double o[2][SQ_OBJ_COUNT], k;
         assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, truth.view_scale, NULL, o[1], &k, NULL, &err), SQ_OK);
@@ -255,8 +255,6 @@ static void lit_like_the_photo(void **state)
         }
         sq_fit_prepared_free(&prep);
         sq_fit_truth_free(&truth);
-        sq_image_free(&photo);
-        sq_image_free(&mask);
     }
     print_message("  summed: key light %.3f, the photo's %.3f\n", key, lit);
     assert_true(lit < 0.85 * key);
@@ -268,18 +266,10 @@ static void stable_across_reseeding(void **state)
     (void)state;
     SqParams p;
     load("table_4_4_spots", &p);
-    SqPhotoOptions po = sq_fit_photo_options_default();
-    po.width = 640;
-    po.height = 480;
-    po.seed = 4;
-    po.texture_size = 256;
-    SqImage photo, mask;
     SqPrepared prep;
     SqFeatures target;
     SqError err;
-    assert_int_equal(sq_fit_synth_photo(&p, &po, &photo, &mask, NULL, &err), SQ_OK);
-    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
-    assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
+    prepared_photo("table_4_4_spots", &p, 4, sq_fit_photo_options_default().coil, 0, &prep, &target, NULL);
     double lo[SQ_OBJ_COUNT], hi[SQ_OBJ_COUNT];
     for (int s = 0; s < 5; s++) {
         double o[SQ_OBJ_COUNT], k;
@@ -302,8 +292,6 @@ static void stable_across_reseeding(void **state)
         if (!(hi[j] < w[j]))
             fail_msg("%s: re-seeded up to %.4f, a coral preset %.4f", sq_fit_objective_name(j), hi[j], w[j]);
     sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
 }
 
 int main(void)
