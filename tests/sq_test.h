@@ -22,6 +22,25 @@
             fail_msg("expected \"%s\" to contain \"%s\"", h_, n_);                    \
     } while (0)
 
+/* Set in the sanitized build (scripts/build --sanitize), where everything runs 3 to 5 times
+ * slower. Checks of a fit's quality, which need long fits, and repeats that only compare
+ * results (one thread against two) run in the plain build alone: the sanitized build runs
+ * the same code in the shorter checks. */
+#ifdef SQUAMA_SANITIZED
+static const int sq_sanitized = 1;
+#else
+static const int sq_sanitized = 0;
+#endif
+
+/* Skips a check that runs in the plain build alone (see sq_sanitized). */
+#define SKIP_WHEN_SANITIZED()                                                         \
+    do {                                                                              \
+        if (sq_sanitized) {                                                           \
+            printf("  skipped under the sanitizers: the plain build runs it\n");     \
+            skip();                                                                   \
+        }                                                                             \
+    } while (0)
+
 /* SQUAMA_SOURCE_DIR "/" rel into a static buffer (one per call site is enough). */
 static inline const char *src_path(char *buf, size_t n, const char *rel)
 {
