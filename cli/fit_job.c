@@ -260,6 +260,22 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         if (r->niche[c])
             cJSON_AddItemToArray(ni, cJSON_CreateString(sq_fit_kind_name(c)));
+    int order[SQ_FIT_KINDS], nd = 0; /* the niches dropped, in the order they went */
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
+        if (r->dropped_at[c] > 0) {
+            int j = nd++;
+            for (; j > 0 && r->dropped_at[order[j - 1]] > r->dropped_at[c]; j--)
+                order[j] = order[j - 1];
+            order[j] = c;
+        }
+    cJSON *dr = cJSON_AddArrayToObject(root, "drops");
+    for (int i = 0; i < nd; i++) {
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddStringToObject(e, "category", sq_fit_kind_name(order[i]));
+        cJSON_AddNumberToObject(e, "evaluations", (double)r->dropped_at[order[i]]);
+        cJSON_AddItemToObject(e, "judged", sq__json_exact_number(r->judged[order[i]]));
+        cJSON_AddItemToArray(dr, e);
+    }
     cJSON *po = cJSON_AddObjectToObject(root, "polish");
     cJSON_AddItemToObject(po, "score_before", sq__json_exact_number(r->polish_before));
     cJSON_AddItemToObject(po, "score_after", sq__json_exact_number(r->polish_after));

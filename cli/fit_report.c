@@ -155,8 +155,12 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))
             continue;
-        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>%s</td></tr>\n", sq_fit_kind_name(c),
-            r->category_score[c], r->survivor[c] ? "to the end" : r->niche[c] ? "dropped on the way" : "");
+        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>", sq_fit_kind_name(c), r->category_score[c]);
+        if (r->survivor[c])
+            cli_buf_put(&b, "to the end");
+        else if (r->dropped_at[c] > 0)
+            cli_buf_put(&b, "dropped after %ld evaluations, judged %.3f", r->dropped_at[c], r->judged[c]);
+        cli_buf_put(&b, "</td></tr>\n");
     }
     cli_buf_put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
     convergence_svg(&b, r);

@@ -490,6 +490,7 @@ typedef struct Niche {
     SqCmaes *es;
     int n;                 /* genes + the view scale */
     SqFitCandidate best;   /* the niche's best by score (noisy) */
+    SqFitCandidate recent; /* its best since it was last judged (score INFINITY: none) */
     SqFitCandidate *pool;  /* GP: the automata's parents, lambda of them */
     int npool, pool_cap;
     uint64_t gp_rng;
@@ -518,6 +519,7 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
         return st;
     z->n = z->g.n + 1;
     z->best = *start;
+    z->recent.score = INFINITY;
     double x0[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
     int levels[SQ_GENOME_MAX + 1];
     sq_genome_encode(&z->g, &start->params, x0);
@@ -685,9 +687,12 @@ static int niche_step(Fit *f, Niche *z)
     sq_cmaes_tell(z->es, fv);
     if (z->g.has_ca)
         gp_survive(z, c, l);
-    for (int k = 0; k < l; k++)
+    for (int k = 0; k < l; k++) {
         if (c[k].score < z->best.score)
             z->best = c[k];
+        if (c[k].score < z->recent.score)
+            z->recent = c[k];
+    }
     note_best(f, c, l);
     int st = archive_add(f, c, l);
     free(c);
@@ -866,28 +871,38 @@ static void plain_twin(Fit *f)
     r->plain_twin = 1;
 }
 
-/* The niche to drop: the worst by its best candidate re-scored over JUDGE_SEEDS fresh
- * seeds (a niche's best single score is the luckiest of many noisy draws, and random
- * patterns draw far luckier minima than plain skins and stripes do); but of the niches
+/* The niche to drop: the worst by the better of its best candidate and its best of the
+ * round, both re-scored over JUDGE_SEEDS fresh seeds (a niche's best single score is the
+ * luckiest of many noisy draws, and random patterns draw far luckier minima than plain
+ * skins and stripes do; a best from the screening, at the best view scale of a grid, is
+ * luckier still and can stand for rounds while the niche's search moves on); but of the niches
  * within PARSIMONY of the worst, the least simple goes, as the final choice keeps the
  * simplest within PARSIMONY of the best. */
 enum { JUDGE_SEEDS = 3 };
 
-static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
+static int worst_niche(Fit *f, Niche *niches, const int *alive, int nn)
 {
-    SqFitCandidate c[CATEGORIES];
-    int idx[CATEGORIES], m = 0;
+    SqFitCandidate c[2 * CATEGORIES];
+    int idx[CATEGORIES], from[2 * CATEGORIES], m = 0, k = 0;
     for (int i = 0; i < nn; i++)
         if (alive[i]) {
-            c[m] = niches[i].best;
+            from[k] = m;
+            c[k++] = niches[i].best;
+            if (isfinite(niches[i].recent.score)) {
+                from[k] = m;
+                c[k++] = niches[i].recent;
+            }
+            niches[i].recent.score = INFINITY; /* the next round's */
             idx[m++] = i;
         }
-    rescore_over(f, c, m, JUDGE_SEEDS, f->o.coarse_size, 104729);
+    rescore_over(f, c, k, JUDGE_SEEDS, f->o.coarse_size, 104729);
     double judged[CATEGORIES], worst_score = -INFINITY;
-    for (int j = 0; j < m; j++) {
-        judged[j] = c[j].score;
-        worst_score = fmax(worst_score, c[j].score);
-    }
+    for (int j = 0; j < m; j++)
+        judged[j] = INFINITY;
+    for (int i = 0; i < k; i++)
+        judged[from[i]] = fmin(judged[from[i]], c[i].score);
+    for (int j = 0; j < m; j++)
+        worst_score = fmax(worst_score, judged[j]);
     int worst = -1;
     for (int j = 0; j < m; j++) {
         if (!(judged[j] * (1 + PARSIMONY) >= worst_score))
@@ -900,7 +915,11 @@ static int worst_niche(Fit *f, const Niche *niches, const int *alive, int nn)
         if (sj > sw || (sj == sw && judged[j] > judged[worst]))
             worst = j;
     }
-    return idx[worst < 0 ? 0 : worst];
+    if (worst < 0)
+        worst = 0;
+    f->r->dropped_at[niches[idx[worst]].category] = f->evals;
+    f->r->judged[niches[idx[worst]].category] = judged[worst];
+    return idx[worst];
 }
 
 typedef struct Polish {

@@ -215,6 +215,9 @@ assert set(f["objectives"]) == {"palette", "histogram", "shape", "along", "acros
 s = f["search"]
 assert s["evaluations"] <= 300 and s["seed"] == 1 and f["view_scale"] > 0
 assert f["category"] in f["category_scores"]
+d = f["drops"]  # the niches dropped, in order, none of them a survivor
+assert all(x["category"] in f["niches"] and x["judged"] > 0 for x in d), d
+assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
 assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html
 PY

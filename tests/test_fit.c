@@ -92,6 +92,21 @@ static void recovers_category(void **state)
         assert_true(isfinite(r.category_score[c]));
     assert_false(isfinite(r.category_score[SQ_PATTERN_COMPLEX])); /* left out */
     assert_true(r.survivor[SQ_PATTERN_LONGITUDINAL]);
+    /* the niches left one at a time, each when it was judged worst, until o.niches remained */
+    int dropped = 0;
+    for (int c = 0; c < SQ_FIT_KINDS; c++) {
+        if (r.niche[c] && !r.survivor[c]) {
+            printf("  %s dropped after %ld evaluations, judged %.3f\n", sq_fit_kind_name(c), r.dropped_at[c], r.judged[c]);
+            assert_true(r.dropped_at[c] > 0 && r.dropped_at[c] < r.evals);
+            assert_true(isfinite(r.judged[c]));
+            for (int d = 0; d < c; d++)
+                assert_true(r.dropped_at[d] != r.dropped_at[c]);
+            dropped++;
+        } else {
+            assert_int_equal(r.dropped_at[c], 0);
+        }
+    }
+    assert_int_equal(dropped, SQ_PATTERN_COMPLEX - o.niches);
     assert_true(r.nhistory >= 3);
     for (int i = 1; i < r.nhistory; i++) /* the best so far never gets worse */
         assert_true(r.history[i].best_score <= r.history[i - 1].best_score);
