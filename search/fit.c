@@ -877,10 +877,11 @@ static void plain_twin(Fit *f)
  * skins and stripes do; a best from the screening, at the best view scale of a grid, is
  * luckier still and can stand for rounds while the niche's search moves on); but of the niches
  * within PARSIMONY of the worst, the least simple goes, as the final choice keeps the
- * simplest within PARSIMONY of the best. */
+ * simplest within PARSIMONY of the best. *judged_worst receives the judged score of the
+ * niche returned. Every niche's best of the round starts again. */
 enum { JUDGE_SEEDS = 3 };
 
-static int worst_niche(Fit *f, Niche *niches, const int *alive, int nn)
+static int worst_niche(Fit *f, Niche *niches, const int *alive, int nn, double *judged_worst)
 {
     SqFitCandidate c[2 * CATEGORIES];
     int idx[CATEGORIES], from[2 * CATEGORIES], m = 0, k = 0;
@@ -917,8 +918,7 @@ static int worst_niche(Fit *f, Niche *niches, const int *alive, int nn)
     }
     if (worst < 0)
         worst = 0;
-    f->r->dropped_at[niches[idx[worst]].category] = f->evals;
-    f->r->judged[niches[idx[worst]].category] = judged[worst];
+    *judged_worst = judged[worst];
     return idx[worst];
 }
 
@@ -1279,8 +1279,11 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             f.generation++;
             report(&f, "evolve", nz->category);
             if (++steps == ROUND * nalive && nalive > o->niches) {
-                int worst = worst_niche(&f, niches, alive, nn);
+                double judged;
+                int worst = worst_niche(&f, niches, alive, nn, &judged);
                 alive[worst] = 0;
+                out->dropped_at[niches[worst].category] = f.evals;
+                out->judged[niches[worst].category] = judged;
                 nalive--;
                 steps = 0;
             }

@@ -274,7 +274,8 @@ typedef struct SqFitResult {
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
     int survivor[SQ_FIT_KINDS]; /* 1: still evolving when stage 2 ended */
     long dropped_at[SQ_FIT_KINDS]; /* evaluations done when the niche was dropped; 0: it was not */
-    double judged[SQ_FIT_KINDS]; /* a dropped niche's judged score then (its best re-scored) */
+    double judged[SQ_FIT_KINDS]; /* a dropped niche's judged score then (its best and its best
+                                    of the round re-scored, the better) */
     SqFitHistory *history;   /* one row per generation */
     int nhistory;
     long evals;
