@@ -113,7 +113,7 @@ static int features(const SqParams *p, int seed, double view, SqTextures *maps, 
         SqImage strip = {0};
         if (sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, k ? &photo->light : NULL, view,
                                    0.5, ROWS, &strip, &e) != SQ_OK ||
-            sq_fit_features(&strip, NULL, k ? lit : key, &e) != SQ_OK) {
+            sq_fit_features_blurred(&strip, NULL, k ? photo->blur : 0, k ? lit : key, &e) != SQ_OK) {
             sq_image_free(&strip);
             return fail(&e);
         }

@@ -217,6 +217,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
+    cJSON_AddNumberToObject(in, "strip_step_px", round(prep->step * 1e3) / 1e3);
+    cJSON_AddNumberToObject(in, "strip_blur", round(sq_fit_strip_blur(prep->step) * 1e3) / 1e3);
     const double lxy[2] = {round(prep->light_xy[0] * 1e3) / 1e3, round(prep->light_xy[1] * 1e3) / 1e3};
     cJSON_AddItemToObject(in, "light", cJSON_CreateDoubleArray(lxy, 2)); /* in the photo's plane */
     cJSON *se = cJSON_AddObjectToObject(root, "search");

@@ -190,34 +190,37 @@ static int wavelet_energies(const float *L, int len, float out[SQ_FIT_LEVELS][3]
 /* Both sides are seen at one common resolution: a Gaussian of BLUR_SIGMA strip pixels over
  * the CIELAB strip (normalised by the valid pixels, so the backdrop does not bleed in). A
  * photo's strip is blurred by its lens, its JPEG and its few pixels across a body; a
- * candidate's is sharp. On top of a common blur the difference between the two shrinks. */
+ * candidate's is sharp. On top of a common blur the difference between the two shrinks;
+ * what the photo's few pixels add is known (SqFeatures.blur), and a candidate is blurred
+ * that much more. */
 static const double BLUR_SIGMA = 1.0;
 
-enum { BLUR_R = 3 }; /* 3 BLUR_SIGMA */
+enum { BLUR_R_MAX = 16 }; /* taps each side, at most: 3 sigma of 5.3 strip pixels */
 
 /* count lines of n pixels (4 floats each; `step` pixels apart, lines `next` pixels apart),
- * each convolved with k (2 BLUR_R + 1 taps), clamped at the ends: src to dst. */
-static void blur_lines(float *src, float *dst, int count, int n, size_t step, size_t next, const float *k)
+ * each convolved with k (2 r + 1 taps), clamped at the ends: src to dst. */
+static void blur_lines(float *src, float *dst, int count, int n, size_t step, size_t next, const float *k, int r)
 {
     for (int line = 0; line < count; line++)
         for (int i = 0; i < n; i++) {
             float acc[4] = {0, 0, 0, 0};
-            for (int d = -BLUR_R; d <= BLUR_R; d++) {
+            for (int d = -r; d <= r; d++) {
                 int j = i + d < 0 ? 0 : (i + d >= n ? n - 1 : i + d);
                 const float *p = src + 4 * (line * next + j * step);
                 for (int c = 0; c < 4; c++)
-                    acc[c] += k[d + BLUR_R] * p[c];
+                    acc[c] += k[d + r] * p[c];
             }
             memcpy(dst + 4 * (line * next + i * step), acc, sizeof acc);
         }
 }
 
-static int common_blur(float *lab, const SqImage *valid, int len)
+static int common_blur(float *lab, const SqImage *valid, int len, double sigma)
 {
-    float k[2 * BLUR_R + 1], ks = 0;
-    for (int i = -BLUR_R; i <= BLUR_R; i++)
-        ks += k[i + BLUR_R] = (float)exp(-0.5 * i * i / (BLUR_SIGMA * BLUR_SIGMA));
-    for (int i = 0; i <= 2 * BLUR_R; i++)
+    float k[2 * BLUR_R_MAX + 1], ks = 0;
+    const int r = (int)fmin(BLUR_R_MAX, ceil(3 * sigma));
+    for (int i = -r; i <= r; i++)
+        ks += k[i + r] = (float)exp(-0.5 * i * i / (sigma * sigma));
+    for (int i = 0; i <= 2 * r; i++)
         k[i] /= ks;
     const size_t n = (size_t)W * len;
     float *a = malloc(sizeof(float) * 4 * n), *b = malloc(sizeof(float) * 4 * n);
@@ -233,8 +236,8 @@ static int common_blur(float *lab, const SqImage *valid, int len)
         a[4 * i + 2] = lab[3 * i + 2] * wv;
         a[4 * i + 3] = wv;
     }
-    blur_lines(a, b, len, W, 1, W, k); /* across, clamped at the band's edges */
-    blur_lines(b, a, W, len, W, 1, k);   /* along, clamped at the ends */
+    blur_lines(a, b, len, W, 1, W, k, r); /* across, clamped at the band's edges */
+    blur_lines(b, a, W, len, W, 1, k, r);   /* along, clamped at the ends */
     for (size_t i = 0; i < n; i++)
         if (a[4 * i + 3] > 1e-3f && (!valid || valid->px[i] > 0.5f))
             for (int c = 0; c < 3; c++)
@@ -246,7 +249,16 @@ static int common_blur(float *lab, const SqImage *valid, int len)
 
 SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures *f, SqError *err)
 {
+    return sq_fit_features_blurred(strip, valid, 0, f, err);
+}
+
+SqStatus sq_fit_features_blurred(const SqImage *strip, const SqImage *valid, double blur, SqFeatures *f,
+                                 SqError *err)
+{
     memset(f, 0, sizeof *f);
+    if (!(blur >= 0) || blur > SQ_FIT_BLUR_MAX)
+        return sq_error_set(err, SQ_ERR_INVALID, "strip", "blur %g is outside 0 to %g strip pixels", blur,
+                            (double)SQ_FIT_BLUR_MAX);
     if (!strip || !strip->px || strip->width != W || strip->height < W || strip->channels < 3)
         return sq_error_set(err, SQ_ERR_INVALID, "strip",
                             "a strip must be %d pixels wide, at least %d long, with colour", W, W);
@@ -267,7 +279,7 @@ SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures 
     double lsum = 0;
     for (int i = 0; i < n; i++)
         sq_fit_srgb_to_lab(strip->px + (size_t)i * strip->channels, lab + 3 * i);
-    if (common_blur(lab, valid, len) != 0) {
+    if (common_blur(lab, valid, len, sqrt(BLUR_SIGMA * BLUR_SIGMA + blur * blur)) != 0) {
         free(lab);
         free(L);
         free(sel);

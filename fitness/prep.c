@@ -36,11 +36,21 @@ void sq_fit_prepared_free(SqPrepared *p)
     memset(p, 0, sizeof *p);
 }
 
+double sq_fit_strip_blur(double step)
+{
+    if (!(step > 0))
+        return 0;
+    const double p = 1 / step, v = p * p / 4 - 1.0 / 12;
+    return v > 0 ? fmin(sqrt(v), SQ_FIT_BLUR_MAX) : 0;
+}
+
 SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *err)
 {
     SqStatus st = sq_fit_features(&p->strip, &p->valid, target, err);
-    if (st == SQ_OK)
+    if (st == SQ_OK) {
         target->light = p->light;
+        target->blur = (float)sq_fit_strip_blur(p->step);
+    }
     return st;
 }
 
@@ -777,39 +787,73 @@ static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
     return 0;
 }
 
+/* Largest number of samples a strip pixel averages in each direction. */
+enum { SUBSAMPLE_MAX = 6 };
+
 /* Samples the photo perpendicular to the curve into c->rows rows of the strip from row0:
- * every `step` pixels along it, across at d = r sin(theta). */
+ * every `step` pixels along it, across at d = r sin(theta). Where a strip pixel covers
+ * more than a photo pixel (step > 1) it is the mean, in linear light, of a grid of samples
+ * over its footprint, as a candidate's strip pixel is of the texels it covers: a big snake's
+ * scales do not alias. */
 static void curve_sample(const Curve *c, const SqImage *photo, const uint8_t *m8, double step,
                          SqImage *strip, SqImage *valid, int row0, float (*tangent)[2])
 {
     const int w = photo->width, h = photo->height, n = c->n;
+    const int k = (int)fmin(SUBSAMPLE_MAX, fmax(1, ceil(step - 1e-6)));
+    const double dth = 2 * THETA_MAX / SQ_FIT_STRIP_W;
     int seg = 0;
+    sq__lab_init();
     for (int j = 0; j < c->rows; j++) {
-        double s = (j + 0.5) * step;
-        while (seg < n - 2 && c->arc[seg + 1] < s)
-            seg++;
-        double t = c->arc[seg + 1] > c->arc[seg] ? (s - c->arc[seg]) / (c->arc[seg + 1] - c->arc[seg]) : 0;
-        double cx = c->px[seg] + (c->px[seg + 1] - c->px[seg]) * t;
-        double cy = c->py[seg] + (c->py[seg + 1] - c->py[seg]) * t;
-        double rr = c->pr[seg] + (c->pr[seg + 1] - c->pr[seg]) * t;
-        int a = seg > 2 ? seg - 3 : 0, b = seg + 3 < n ? seg + 3 : n - 1;
-        double tx = c->px[b] - c->px[a], ty = c->py[b] - c->py[a], tl = hypot(tx, ty);
-        tx /= tl > 0 ? tl : 1;
-        ty /= tl > 0 ? tl : 1;
-        double nx = -ty, ny = tx;
-        tangent[row0 + j][0] = (float)tx;
-        tangent[row0 + j][1] = (float)ty;
-        const int row_clean = c->clean[seg] && c->clean[seg + 1 < n ? seg + 1 : seg];
+        float acc[SQ_FIT_STRIP_W][3];
+        int row_clean = 1, in[SQ_FIT_STRIP_W], body[SQ_FIT_STRIP_W];
+        memset(acc, 0, sizeof acc);
+        for (int i = 0; i < SQ_FIT_STRIP_W; i++)
+            in[i] = body[i] = 1;
+        for (int a = 0; a < k; a++) {
+            /* the centre line at arc length s: point, radius, unit normal */
+            const double s = (j + (a + 0.5) / k) * step;
+            while (seg < n - 2 && c->arc[seg + 1] < s)
+                seg++;
+            double t = c->arc[seg + 1] > c->arc[seg] ? (s - c->arc[seg]) / (c->arc[seg + 1] - c->arc[seg]) : 0;
+            double cx = c->px[seg] + (c->px[seg + 1] - c->px[seg]) * t;
+            double cy = c->py[seg] + (c->py[seg + 1] - c->py[seg]) * t;
+            double rr = c->pr[seg] + (c->pr[seg + 1] - c->pr[seg]) * t;
+            int lo = seg > 2 ? seg - 3 : 0, hi = seg + 3 < n ? seg + 3 : n - 1;
+            double tx = c->px[hi] - c->px[lo], ty = c->py[hi] - c->py[lo], tl = hypot(tx, ty);
+            tx /= tl > 0 ? tl : 1;
+            ty /= tl > 0 ? tl : 1;
+            double nx = -ty, ny = tx;
+            if (a == k / 2) { /* the row's own: its middle sample's */
+                tangent[row0 + j][0] = (float)tx;
+                tangent[row0 + j][1] = (float)ty;
+                row_clean = c->clean[seg] && c->clean[seg + 1 < n ? seg + 1 : seg];
+            }
+            for (int i = 0; i < SQ_FIT_STRIP_W; i++)
+                for (int b = 0; b < k; b++) {
+                    double th = -THETA_MAX + (i + (b + 0.5) / k) * dth;
+                    double d = rr * sin(th);
+                    float sx = (float)(cx + d * nx - 0.5), sy = (float)(cy + d * ny - 0.5);
+                    const int inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
+                    in[i] &= inside;
+                    if (!inside)
+                        continue;
+                    if (k == 1) { /* as it is: one sample */
+                        for (int ch = 0; ch < 3; ch++)
+                            acc[i][ch] = sq__sample(photo->px, w, h, 3, ch, sx, sy);
+                        body[i] = m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] != 0;
+                        continue;
+                    }
+                    for (int ch = 0; ch < 3; ch++)
+                        acc[i][ch] += sq__srgb_to_linear_lut(sq__sample(photo->px, w, h, 3, ch, sx, sy));
+                    if (a == k / 2 && b == k / 2) /* the mask at the pixel's middle */
+                        body[i] = m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] != 0;
+                }
+        }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
-            double th = -THETA_MAX + (i + 0.5) * 2 * THETA_MAX / SQ_FIT_STRIP_W;
-            double d = rr * sin(th);
-            float sx = (float)(cx + d * nx - 0.5), sy = (float)(cy + d * ny - 0.5);
-            int inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
             float *o3 = sq_image_at(strip, i, row0 + j);
             for (int ch = 0; ch < 3; ch++)
-                o3[ch] = inside ? sq__sample(photo->px, w, h, 3, ch, sx, sy) : 0.0f;
-            *sq_image_at(valid, i, row0 + j) =
-                inside && row_clean && m8[(int)(sy + 0.5f) * w + (int)(sx + 0.5f)] ? 1.0f : 0.0f;
+                o3[ch] = !in[i] ? 0.0f : k == 1 ? acc[i][ch] : sq__linear_to_srgb_lut(acc[i][ch] / (float)(k * k));
+            *sq_image_at(valid, i, row0 + j) = in[i] && body[i] && row_clean ? 1.0f : 0.0f;
         }
     }
 }
@@ -1064,6 +1108,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     debug_save(&o, "6_strip.png", &out->strip);
     debug_save(&o, "7_strip_valid.png", &out->valid);
 
+    out->step = step;
     out->body_width = 2 * r / scale;
     out->length = length / scale;
     out->nruns = ncurves;

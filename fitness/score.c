@@ -35,7 +35,7 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
                                     &strip, err);
         if (st != SQ_OK)
             break;
-        st = sq_fit_features(&strip, NULL, &f, err);
+        st = sq_fit_features_blurred(&strip, NULL, target->blur, &f, err);
         if (st != SQ_OK) {
             sq_image_free(&strip);
             break;

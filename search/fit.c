@@ -153,7 +153,7 @@ static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqT
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
         sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &f->target->light, c->view_scale, f->o.band_centre,
                                SQ_FIT_CANDIDATE_ROWS, &strip, NULL) != SQ_OK ||
-        sq_fit_features(&strip, NULL, &feat, NULL) != SQ_OK) {
+        sq_fit_features_blurred(&strip, NULL, f->target->blur, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);
         set_failed(c);
         return;

@@ -323,6 +323,40 @@ static void strips_take_the_light(void **state)
     sq_gen_textures_free(&t);
 }
 
+/* A candidate seen through a photo's blur: no blur is sq_fit_features itself; more blur
+ * takes the fine detail (rings a few strip pixels apart) out of the spectrum along the
+ * body, and brings its features nearer those of the blurred photo of it. */
+static void blur_takes_fine_detail(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    p.Pattern_Type = SQ_PATTERN_TRANSVERSAL;
+    SqGenOptions o = sq_gen_options_default(256);
+    SqTextures t;
+    SqError err;
+    assert_int_equal(sq_gen_render(&p, &o, &t, &err), SQ_OK);
+    SqImage strip;
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, NULL, NULL, NULL, 0.5, 0.5, 256, &strip, &err), SQ_OK);
+    SqFeatures plain, zero, some, more;
+    assert_int_equal(sq_fit_features(&strip, NULL, &plain, &err), SQ_OK);
+    assert_int_equal(sq_fit_features_blurred(&strip, NULL, 0, &zero, &err), SQ_OK);
+    assert_int_equal(sq_fit_features_blurred(&strip, NULL, 1, &some, &err), SQ_OK);
+    assert_int_equal(sq_fit_features_blurred(&strip, NULL, 3, &more, &err), SQ_OK);
+    assert_memory_equal(&plain, &zero, sizeof plain);
+    print_message("along power: blur 0 %.3g, 1 %.3g, 3 %.3g\n", plain.along_power, some.along_power, more.along_power);
+    assert_true(some.along_power < plain.along_power && more.along_power < some.along_power);
+    double a[SQ_OBJ_COUNT], b[SQ_OBJ_COUNT];
+    objectives(&more, &plain, a); /* a blurred strip against the sharp and the blurred candidate */
+    objectives(&more, &more, b);
+    assert_true(a[SQ_OBJ_ALONG] > b[SQ_OBJ_ALONG] + 0.05);
+    assert_int_equal(sq_fit_features_blurred(&strip, NULL, -1, &some, &err), SQ_ERR_INVALID);
+    assert_int_equal(sq_fit_features_blurred(&strip, NULL, SQ_FIT_BLUR_MAX + 1, &some, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "blur");
+    sq_image_free(&strip);
+    sq_gen_textures_free(&t);
+}
+
 static void refusals(void **state)
 {
     (void)state;
@@ -358,6 +392,7 @@ int main(void)
         cmocka_unit_test(spectra_weigh_amounts),
         cmocka_unit_test(strips_are_stable),
         cmocka_unit_test(strips_take_the_light),
+        cmocka_unit_test(blur_takes_fine_detail),
         cmocka_unit_test(refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -275,6 +275,86 @@ static void large_photo(void **state)
     sq_fit_truth_free(&t);
 }
 
+/* A big snake: a strip pixel spans about five photo pixels, and is their mean (in linear
+ * light), as a candidate's strip pixel is of its texels. Point samples of a one-pixel
+ * checkerboard would be anything from black to white (sd 0.18); the means are its
+ * mid grey. */
+static void big_body_is_area_sampled(void **state)
+{
+    (void)state;
+    const int w = 1024, h = 480, y0 = 90, y1 = 390;
+    SqImage photo, mask;
+    assert_int_equal(sq_image_alloc(&photo, w, h, 3, SQ_SPACE_SRGB), 0);
+    assert_int_equal(sq_image_alloc(&mask, w, h, 1, SQ_SPACE_DATA), 0);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const int body = y >= y0 && y < y1;
+            float *p = sq_image_at(&photo, x, y);
+            p[0] = p[1] = p[2] = body ? (float)((x + y) & 1) : 0.3f;
+            *sq_image_at(&mask, x, y) = (float)body;
+        }
+    SqPrepared prep;
+    SqError err;
+    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
+    assert_true(prep.step > 4 && prep.step < 6);
+    assert_true(sq_fit_strip_blur(prep.step) == 0); /* as sharp as a candidate's */
+    double s = 0, ss = 0;
+    int n = 0;
+    for (int y = 0; y < prep.strip.height; y++)
+        for (int x = 0; x < SQ_FIT_STRIP_W; x++)
+            if (*sq_image_at(&prep.valid, x, y) > 0.5f) {
+                const double v = sq_image_at(&prep.strip, x, y)[1];
+                s += v;
+                ss += v * v;
+                n++;
+            }
+    assert_true(n > SQ_FIT_STRIP_W * 16);
+    const double mean = s / n, sd = sqrt(fmax(0, ss / n - mean * mean));
+    print_message("big body: step %.2f, strip mean %.3f, sd %.3f over %d pixels\n", prep.step, mean, sd, n);
+    /* mid grey: between the samples' sRGB mean (0.5: bilinear samples are sRGB) and the
+     * checkerboard's mean in linear light (0.735) */
+    assert_true(mean > 0.45 && mean < 0.76);
+    assert_true(sd < 0.05);
+    sq_fit_prepared_free(&prep);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+}
+
+/* A small snake's strip is upsampled from its few pixels: its target says how much blurrier
+ * than a candidate's it is, and a big snake's is not. */
+static void small_body_target_is_blurred(void **state)
+{
+    (void)state;
+    assert_true(sq_fit_strip_blur(0.5) > sq_fit_strip_blur(0.8));
+    assert_true(sq_fit_strip_blur(0.8) > sq_fit_strip_blur(1.0));
+    assert_true(fabs(sq_fit_strip_blur(0.5) - sqrt(1.0 - 1.0 / 12)) < 1e-9);
+    assert_true(sq_fit_strip_blur(2.0) == 0 && sq_fit_strip_blur(0) == 0);
+    assert_true(sq_fit_strip_blur(0.01) == SQ_FIT_BLUR_MAX);
+    SqImage photo, mask;
+    SqPhotoTruth t;
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    SqParams p;
+    sq_params_default(&p);
+    o.width = 640;
+    o.height = 480;
+    o.seed = 5;
+    o.body_radius = 12; /* a strip pixel: 0.4 photo pixels */
+    o.texture_size = 128;
+    SqError err;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
+    SqPrepared prep;
+    SqFeatures target;
+    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
+    assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
+    print_message("small body: step %.2f, target blur %.2f\n", prep.step, target.blur);
+    assert_true(prep.step > 0.3 && prep.step < 0.5);
+    assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step)) < 1e-6 && target.blur > 1);
+    sq_fit_prepared_free(&prep);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+    sq_fit_truth_free(&t);
+}
+
 static void real_photos(void **state)
 {
     (void)state;
@@ -317,6 +397,8 @@ int main(void)
         cmocka_unit_test(automatic_mask),
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(large_photo),
+        cmocka_unit_test(big_body_is_area_sampled),
+        cmocka_unit_test(small_body_target_is_blurred),
         cmocka_unit_test(real_photos),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -67,6 +67,11 @@ typedef struct SqFeatures {
     SqLight light;                    /* the light the strip was seen under (sq_fit_features
                                        * leaves it at the key light; a photo's target takes
                                        * SqPrepared.light): candidates are lit the same way */
+    float blur;                       /* how much blurrier the strip is than a candidate's, a
+                                       * Gaussian's sigma in strip pixels (sq_fit_features
+                                       * leaves 0; a photo's target takes it from its
+                                       * resolution, SqPrepared.step): candidates are seen
+                                       * through it (sq_fit_features_blurred) */
 } SqFeatures;
 
 /* The objectives, in order. */
@@ -86,6 +91,15 @@ const char *sq_fit_objective_name(int i);
  * size, may be NULL) marks the pixels that count. The strip must be SQ_FIT_STRIP_W wide
  * and at least SQ_FIT_STRIP_W long. */
 SqStatus sq_fit_features(const SqImage *strip, const SqImage *valid, SqFeatures *f, SqError *err);
+
+/* The largest blur sq_fit_features_blurred takes, strip pixels. */
+#define SQ_FIT_BLUR_MAX 5.0
+
+/* The same, the strip seen through a further Gaussian blur of sigma `blur` strip pixels
+ * (0 to SQ_FIT_BLUR_MAX): a candidate's strip as a photo's target sees it, blur =
+ * target->blur. sq_fit_features is blur 0. */
+SqStatus sq_fit_features_blurred(const SqImage *strip, const SqImage *valid, double blur, SqFeatures *f,
+                                 SqError *err);
 
 /* The objectives vector (SQ_OBJ_COUNT values, lower is better, 0 for identical features). */
 void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, double *out);
@@ -145,6 +159,9 @@ typedef struct SqPrepared {
                              * tilt as the body turns (one light fixed in the photo) */
     float light_xy[2];      /* that light's part in the photo's plane (x right, y down;
                              * 0.65 long at most, 0 0: none found) */
+    double step;            /* photo pixels (at working size) a strip pixel spans at the
+                             * body's middle: below 1 the strip is blurrier than a
+                             * candidate's (sq_fit_strip_blur) */
 } SqPrepared;
 
 SqPrepOptions sq_fit_prep_options_default(void);
@@ -161,7 +178,14 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepO
 
 void sq_fit_prepared_free(SqPrepared *p);
 
-/* The target a prepared photo makes: its strip's features, with its light. */
+/* How much blurrier than a candidate's strip a photo's strip is when a strip pixel spans
+ * `step` photo pixels: a Gaussian's sigma in strip pixels. Upsampled (step < 1), each
+ * photo pixel (a box of 1 / step strip pixels) is spread by the bilinear sampling over as
+ * much again, variance (1 / step)^2 / 4, against a candidate pixel's box of 1 (variance
+ * 1 / 12). At most SQ_FIT_BLUR_MAX. */
+double sq_fit_strip_blur(double step);
+
+/* The target a prepared photo makes: its strip's features, with its light and its blur. */
 SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *err);
 
 /* ---- synthetic photos with ground truth (synth.c) ---- */
