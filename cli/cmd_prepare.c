@@ -183,7 +183,8 @@ int cmd_prepare(int argc, char **argv)
         cJSON_AddNumberToObject(o, "stretches", prep.nruns);
         cJSON_AddNumberToObject(o, "strip_rows", prep.strip.height);
         cJSON_AddNumberToObject(o, "strip_step_px", round(prep.step * 1e3) / 1e3);
-        cJSON_AddNumberToObject(o, "strip_blur", round(sq_fit_strip_blur(prep.step) * 1e3) / 1e3);
+        cJSON_AddNumberToObject(o, "edge_blur_px", round(prep.edge_blur * 1e3) / 1e3);
+        cJSON_AddNumberToObject(o, "strip_blur", round(sq_fit_strip_blur(prep.step, prep.edge_blur) * 1e3) / 1e3);
         const double lxy[2] = {round(prep.light_xy[0] * 1e3) / 1e3, round(prep.light_xy[1] * 1e3) / 1e3};
         cJSON_AddItemToObject(o, "light", cJSON_CreateDoubleArray(lxy, 2));
         char *text = sq__json_print(o);

@@ -218,7 +218,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
     cJSON_AddNumberToObject(in, "strip_step_px", round(prep->step * 1e3) / 1e3);
-    cJSON_AddNumberToObject(in, "strip_blur", round(sq_fit_strip_blur(prep->step) * 1e3) / 1e3);
+    cJSON_AddNumberToObject(in, "edge_blur_px", round(prep->edge_blur * 1e3) / 1e3);
+    cJSON_AddNumberToObject(in, "strip_blur", round(sq_fit_strip_blur(prep->step, prep->edge_blur) * 1e3) / 1e3);
     const double lxy[2] = {round(prep->light_xy[0] * 1e3) / 1e3, round(prep->light_xy[1] * 1e3) / 1e3};
     cJSON_AddItemToObject(in, "light", cJSON_CreateDoubleArray(lxy, 2)); /* in the photo's plane */
     cJSON *se = cJSON_AddObjectToObject(root, "search");

@@ -36,11 +36,11 @@ void sq_fit_prepared_free(SqPrepared *p)
     memset(p, 0, sizeof *p);
 }
 
-double sq_fit_strip_blur(double step)
+double sq_fit_strip_blur(double step, double edge_blur)
 {
     if (!(step > 0))
         return 0;
-    const double p = 1 / step, v = p * p / 4 - 1.0 / 12;
+    const double e = edge_blur > 0 ? edge_blur : 0.5, v = (e / step) * (e / step) - 1.0 / 12;
     return v > 0 ? fmin(sqrt(v), SQ_FIT_BLUR_MAX) : 0;
 }
 
@@ -49,7 +49,7 @@ SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *e
     SqStatus st = sq_fit_features(&p->strip, &p->valid, target, err);
     if (st == SQ_OK) {
         target->light = p->light;
-        target->blur = (float)sq_fit_strip_blur(p->step);
+        target->blur = (float)sq_fit_strip_blur(p->step, p->edge_blur);
     }
     return st;
 }
@@ -787,6 +787,96 @@ static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
     return 0;
 }
 
+/* The photo's own blur, from the body's outline: across each edge (both sides of the
+ * clean stretches, every other pixel along them) the linear luminance rises from the
+ * backdrop's to the body's; where both sides are flat and differ enough, the distance
+ * between the 20% and 80% points of that rise is 1.683 sigma of a Gaussian-blurred step.
+ * The median over the edges, in photo pixels (at working size), the pixel's own box
+ * included; 0 when fewer than EDGE_MIN edges were clean enough to measure. */
+enum { EDGE_MIN = 24, EDGE_REACH = 20 }; /* EDGE_REACH quarter pixels each side of the edge */
+
+static int cmp_double_asc(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double edge_blur(const Curve *curves, int ncurves, const SqImage *photo)
+{
+    const int w = photo->width, h = photo->height;
+    int cap = 0;
+    for (int k = 0; k < ncurves; k++)
+        cap += curves[k].n;
+    double *sig = malloc(sizeof(double) * (size_t)(cap + 1));
+    if (!sig)
+        return 0;
+    int m = 0;
+    sq__lab_init();
+    for (int k = 0; k < ncurves; k++) {
+        const Curve *c = &curves[k];
+        for (int i = 3; i + 3 < c->n; i += 2) {
+            if (!c->clean[i])
+                continue;
+            double tx = c->px[i + 3] - c->px[i - 3], ty = c->py[i + 3] - c->py[i - 3], tl = hypot(tx, ty);
+            if (!(tl > 0))
+                continue;
+            const double nx = -ty / tl, ny = tx / tl;
+            for (int side = -1; side <= 1; side += 2) {
+                float e[2 * EDGE_REACH + 1];
+                int inside = 1;
+                for (int q = -EDGE_REACH; q <= EDGE_REACH && inside; q++) {
+                    const double d = side * (c->pr[i] + 0.25 * q);
+                    const float sx = (float)(c->px[i] + d * nx - 0.5), sy = (float)(c->py[i] + d * ny - 0.5);
+                    inside = sx >= 0 && sy >= 0 && sx <= w - 1 && sy <= h - 1;
+                    if (inside) {
+                        float rgb[3];
+                        for (int ch = 0; ch < 3; ch++)
+                            rgb[ch] = sq__sample(photo->px, w, h, 3, ch, sx, sy);
+                        e[q + EDGE_REACH] = luminance(rgb);
+                    }
+                }
+                if (!inside)
+                    continue;
+                /* the plateaus: 3 to 5 pixels in and out */
+                double a = 0, b = 0, va = 0, vb = 0;
+                for (int q = 0; q <= 8; q++) {
+                    a += e[q] / 9;
+                    b += e[2 * EDGE_REACH - q] / 9;
+                }
+                for (int q = 0; q <= 8; q++) {
+                    va += (e[q] - a) * (e[q] - a) / 9;
+                    vb += (e[2 * EDGE_REACH - q] - b) * (e[2 * EDGE_REACH - q] - b) / 9;
+                }
+                const double step = a - b;
+                if (fabs(step) < 0.05 || sqrt(va) > 0.1 * fabs(step) || sqrt(vb) > 0.1 * fabs(step))
+                    continue;
+                /* from inside out: the first fall below 80% and below 20%, and nothing back
+                 * above 50% after it */
+                double t80 = NAN, t20 = NAN;
+                int ok = 1;
+                for (int q = 1; q <= 2 * EDGE_REACH; q++) {
+                    const double f0 = (e[q - 1] - b) / step, f1 = (e[q] - b) / step;
+                    if (isnan(t80) && f0 >= 0.8 && f1 < 0.8)
+                        t80 = q - 1 + (f0 - 0.8) / (f0 - f1);
+                    if (!isnan(t80) && isnan(t20) && f0 >= 0.2 && f1 < 0.2)
+                        t20 = q - 1 + (f0 - 0.2) / (f0 - f1);
+                    if (!isnan(t20) && f1 > 0.5)
+                        ok = 0;
+                }
+                if (ok && !isnan(t80) && !isnan(t20))
+                    sig[m++] = 0.25 * (t20 - t80) / 1.683;
+            }
+        }
+    }
+    double r = 0;
+    if (m >= EDGE_MIN) {
+        qsort(sig, (size_t)m, sizeof *sig, cmp_double_asc);
+        r = sig[m / 2];
+    }
+    free(sig);
+    return r;
+}
+
 /* Largest number of samples a strip pixel averages in each direction. */
 enum { SUBSAMPLE_MAX = 6 };
 
@@ -1109,6 +1199,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     debug_save(&o, "7_strip_valid.png", &out->valid);
 
     out->step = step;
+    out->edge_blur = edge_blur(curves, ncurves, &out->photo);
     out->body_width = 2 * r / scale;
     out->length = length / scale;
     out->nruns = ncurves;

@@ -297,7 +297,7 @@ static void big_body_is_area_sampled(void **state)
     SqError err;
     assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
     assert_true(prep.step > 4 && prep.step < 6);
-    assert_true(sq_fit_strip_blur(prep.step) == 0); /* as sharp as a candidate's */
+    assert_true(sq_fit_strip_blur(prep.step, prep.edge_blur) == 0); /* as sharp as a candidate's */
     double s = 0, ss = 0;
     int n = 0;
     for (int y = 0; y < prep.strip.height; y++)
@@ -325,11 +325,11 @@ static void big_body_is_area_sampled(void **state)
 static void small_body_target_is_blurred(void **state)
 {
     (void)state;
-    assert_true(sq_fit_strip_blur(0.5) > sq_fit_strip_blur(0.8));
-    assert_true(sq_fit_strip_blur(0.8) > sq_fit_strip_blur(1.0));
-    assert_true(fabs(sq_fit_strip_blur(0.5) - sqrt(1.0 - 1.0 / 12)) < 1e-9);
-    assert_true(sq_fit_strip_blur(2.0) == 0 && sq_fit_strip_blur(0) == 0);
-    assert_true(sq_fit_strip_blur(0.01) == SQ_FIT_BLUR_MAX);
+    assert_true(sq_fit_strip_blur(0.5, 0) > sq_fit_strip_blur(0.8, 0));
+    assert_true(sq_fit_strip_blur(0.8, 0) > sq_fit_strip_blur(1.0, 0));
+    assert_true(fabs(sq_fit_strip_blur(0.5, 0) - sqrt(1.0 - 1.0 / 12)) < 1e-9);
+    assert_true(sq_fit_strip_blur(2.0, 0) == 0 && sq_fit_strip_blur(0, 0) == 0);
+    assert_true(sq_fit_strip_blur(0.01, 0) == SQ_FIT_BLUR_MAX);
     SqImage photo, mask;
     SqPhotoTruth t;
     SqPhotoOptions o = sq_fit_photo_options_default();
@@ -348,11 +348,56 @@ static void small_body_target_is_blurred(void **state)
     assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
     print_message("small body: step %.2f, target blur %.2f\n", prep.step, target.blur);
     assert_true(prep.step > 0.3 && prep.step < 0.5);
-    assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step)) < 1e-6 && target.blur > 1);
+    assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step, prep.edge_blur)) < 1e-6 && target.blur > 1);
     sq_fit_prepared_free(&prep);
     sq_image_free(&photo);
     sq_image_free(&mask);
     sq_fit_truth_free(&t);
+}
+
+/* The photo's own blur, measured across the body's outline, follows the camera blur
+ * `squama photo` applies (its sharp photos: about 0.5 pixel, the pixels' box and the
+ * sampling between them), and the target's blur with it. */
+static void photo_blur_from_the_outline(void **state)
+{
+    (void)state;
+    static const double blur[3] = {0, 1.0, 2.0};
+    double edge[3], target_blur[3];
+    for (int k = 0; k < 3; k++) {
+        SqParams p;
+        sq_params_default(&p);
+        SqPhotoOptions o = sq_fit_photo_options_default();
+        o.width = 640;
+        o.height = 480;
+        o.seed = 4;
+        o.texture_size = 128;
+        o.backdrop = SQ_BACKDROP_SOIL;
+        o.blur = blur[k];
+        SqImage photo, mask;
+        SqPhotoTruth t;
+        SqError err;
+        assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
+        SqPrepared prep;
+        SqFeatures target;
+        assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
+        assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
+        edge[k] = prep.edge_blur;
+        target_blur[k] = target.blur;
+        print_message("camera blur %.1f: measured %.2f px, step %.2f, target blur %.2f\n", blur[k], edge[k], prep.step,
+                      target.blur);
+        assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step, prep.edge_blur)) < 1e-6);
+        sq_fit_prepared_free(&prep);
+        sq_image_free(&photo);
+        sq_image_free(&mask);
+        sq_fit_truth_free(&t);
+    }
+    assert_true(edge[0] > 0.3 && edge[0] < 0.8);
+    for (int k = 1; k < 3; k++) {
+        const double expect = sqrt(blur[k] * blur[k] + edge[0] * edge[0]);
+        assert_true(fabs(edge[k] - expect) < 0.35 * expect);
+        assert_true(edge[k] > edge[k - 1] && target_blur[k] > target_blur[k - 1]);
+    }
+    assert_true(sq_fit_strip_blur(1, 2) > sq_fit_strip_blur(1, 1) && sq_fit_strip_blur(1, 1) > sq_fit_strip_blur(1, 0));
 }
 
 static void real_photos(void **state)
@@ -399,6 +444,7 @@ int main(void)
         cmocka_unit_test(large_photo),
         cmocka_unit_test(big_body_is_area_sampled),
         cmocka_unit_test(small_body_target_is_blurred),
+        cmocka_unit_test(photo_blur_from_the_outline),
         cmocka_unit_test(real_photos),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

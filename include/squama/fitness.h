@@ -162,6 +162,9 @@ typedef struct SqPrepared {
     double step;            /* photo pixels (at working size) a strip pixel spans at the
                              * body's middle: below 1 the strip is blurrier than a
                              * candidate's (sq_fit_strip_blur) */
+    double edge_blur;       /* the photo's blur, a Gaussian's sigma in photo pixels at
+                             * working size (the pixel's own box included), measured
+                             * across the body's outline; 0: not measured */
 } SqPrepared;
 
 SqPrepOptions sq_fit_prep_options_default(void);
@@ -178,12 +181,13 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepO
 
 void sq_fit_prepared_free(SqPrepared *p);
 
-/* How much blurrier than a candidate's strip a photo's strip is when a strip pixel spans
- * `step` photo pixels: a Gaussian's sigma in strip pixels. Upsampled (step < 1), each
- * photo pixel (a box of 1 / step strip pixels) is spread by the bilinear sampling over as
- * much again, variance (1 / step)^2 / 4, against a candidate pixel's box of 1 (variance
- * 1 / 12). At most SQ_FIT_BLUR_MAX. */
-double sq_fit_strip_blur(double step);
+/* How much blurrier than a candidate's strip a photo's strip is, a Gaussian's sigma in
+ * strip pixels, when a strip pixel spans `step` photo pixels and the photo's own blur is
+ * edge_blur photo pixels (SqPrepared.edge_blur; 0: unknown, taken as 0.5, a sharp
+ * photo's: its pixels' box and the bilinear sampling between them). That blur is
+ * edge_blur / step strip pixels, against a candidate pixel's box (variance 1 / 12). At most
+ * SQ_FIT_BLUR_MAX. */
+double sq_fit_strip_blur(double step, double edge_blur);
 
 /* The target a prepared photo makes: its strip's features, with its light and its blur. */
 SqStatus sq_fit_photo_target(const SqPrepared *p, SqFeatures *target, SqError *err);
