@@ -320,6 +320,40 @@ static void big_body_is_area_sampled(void **state)
     sq_image_free(&mask);
 }
 
+/* A default preset's synthetic photo (640 x 480, soil) with body radius r (0: the photo's
+ * choice) and camera blur, prepared: its strip step, measured blur and target blur. */
+static void blur_of(double r, double blur, unsigned seed, double *step, double *edge, double *target_blur)
+{
+    SqParams p;
+    sq_params_default(&p);
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    o.width = 640;
+    o.height = 480;
+    o.seed = seed;
+    o.texture_size = 128;
+    o.backdrop = SQ_BACKDROP_SOIL;
+    o.body_radius = r;
+    o.blur = blur;
+    SqImage photo, mask;
+    SqPhotoTruth t;
+    SqError err;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
+    SqPrepared prep;
+    SqFeatures target;
+    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
+    assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
+    assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step, prep.edge_blur)) < 1e-6);
+    *step = prep.step;
+    *edge = prep.edge_blur;
+    *target_blur = target.blur;
+    print_message("radius %.0f, camera blur %.1f: step %.2f, measured blur %.2f px, target blur %.2f\n", r, blur,
+                  *step, *edge, *target_blur);
+    sq_fit_prepared_free(&prep);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+    sq_fit_truth_free(&t);
+}
+
 /* A small snake's strip is upsampled from its few pixels: its target says how much blurrier
  * than a candidate's it is, and a big snake's is not. */
 static void small_body_target_is_blurred(void **state)
@@ -330,29 +364,10 @@ static void small_body_target_is_blurred(void **state)
     assert_true(fabs(sq_fit_strip_blur(0.5, 0) - sqrt(1.0 - 1.0 / 12)) < 1e-9);
     assert_true(sq_fit_strip_blur(2.0, 0) == 0 && sq_fit_strip_blur(0, 0) == 0);
     assert_true(sq_fit_strip_blur(0.01, 0) == SQ_FIT_BLUR_MAX);
-    SqImage photo, mask;
-    SqPhotoTruth t;
-    SqPhotoOptions o = sq_fit_photo_options_default();
-    SqParams p;
-    sq_params_default(&p);
-    o.width = 640;
-    o.height = 480;
-    o.seed = 5;
-    o.body_radius = 12; /* a strip pixel: 0.4 photo pixels */
-    o.texture_size = 128;
-    SqError err;
-    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
-    SqPrepared prep;
-    SqFeatures target;
-    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
-    assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
-    print_message("small body: step %.2f, target blur %.2f\n", prep.step, target.blur);
-    assert_true(prep.step > 0.3 && prep.step < 0.5);
-    assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step, prep.edge_blur)) < 1e-6 && target.blur > 1);
-    sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
-    sq_fit_truth_free(&t);
+    double step, edge, target_blur;
+    blur_of(12, 0, 5, &step, &edge, &target_blur); /* a strip pixel: 0.4 photo pixels */
+    assert_true(step > 0.3 && step < 0.5);
+    assert_true(target_blur > 1);
 }
 
 /* The photo's own blur, measured across the body's outline, follows the camera blur
@@ -362,35 +377,9 @@ static void photo_blur_from_the_outline(void **state)
 {
     (void)state;
     static const double blur[3] = {0, 1.0, 2.0};
-    double edge[3], target_blur[3];
-    for (int k = 0; k < 3; k++) {
-        SqParams p;
-        sq_params_default(&p);
-        SqPhotoOptions o = sq_fit_photo_options_default();
-        o.width = 640;
-        o.height = 480;
-        o.seed = 4;
-        o.texture_size = 128;
-        o.backdrop = SQ_BACKDROP_SOIL;
-        o.blur = blur[k];
-        SqImage photo, mask;
-        SqPhotoTruth t;
-        SqError err;
-        assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
-        SqPrepared prep;
-        SqFeatures target;
-        assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &prep, &err), SQ_OK);
-        assert_int_equal(sq_fit_photo_target(&prep, &target, &err), SQ_OK);
-        edge[k] = prep.edge_blur;
-        target_blur[k] = target.blur;
-        print_message("camera blur %.1f: measured %.2f px, step %.2f, target blur %.2f\n", blur[k], edge[k], prep.step,
-                      target.blur);
-        assert_true(fabs(target.blur - sq_fit_strip_blur(prep.step, prep.edge_blur)) < 1e-6);
-        sq_fit_prepared_free(&prep);
-        sq_image_free(&photo);
-        sq_image_free(&mask);
-        sq_fit_truth_free(&t);
-    }
+    double step, edge[3], target_blur[3];
+    for (int k = 0; k < 3; k++)
+        blur_of(0, blur[k], 4, &step, &edge[k], &target_blur[k]);
     assert_true(edge[0] > 0.3 && edge[0] < 0.8);
     for (int k = 1; k < 3; k++) {
         const double expect = sqrt(blur[k] * blur[k] + edge[0] * edge[0]);
