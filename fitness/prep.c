@@ -795,19 +795,13 @@ static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
  * included; 0 when fewer than EDGE_MIN edges were clean enough to measure. */
 enum { EDGE_MIN = 24, EDGE_REACH = 20 }; /* EDGE_REACH quarter pixels each side of the edge */
 
-static int cmp_double_asc(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double edge_blur(const Curve *curves, int ncurves, const SqImage *photo)
 {
     const int w = photo->width, h = photo->height;
     int cap = 0;
     for (int k = 0; k < ncurves; k++)
         cap += curves[k].n;
-    double *sig = malloc(sizeof(double) * (size_t)(cap + 1));
+    float *sig = malloc(sizeof(float) * (size_t)(cap + 1));
     if (!sig)
         return 0;
     int m = 0;
@@ -864,15 +858,11 @@ static double edge_blur(const Curve *curves, int ncurves, const SqImage *photo)
                         ok = 0;
                 }
                 if (ok && !isnan(t80) && !isnan(t20))
-                    sig[m++] = 0.25 * (t20 - t80) / 1.683;
+                    sig[m++] = (float)(0.25 * (t20 - t80) / 1.683);
             }
         }
     }
-    double r = 0;
-    if (m >= EDGE_MIN) {
-        qsort(sig, (size_t)m, sizeof *sig, cmp_double_asc);
-        r = sig[m / 2];
-    }
+    const double r = m >= EDGE_MIN ? select_k(sig, m, m / 2) : 0;
     free(sig);
     return r;
 }

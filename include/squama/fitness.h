@@ -70,8 +70,9 @@ typedef struct SqFeatures {
     float blur;                       /* how much blurrier the strip is than a candidate's, a
                                        * Gaussian's sigma in strip pixels (sq_fit_features
                                        * leaves 0; a photo's target takes it from its
-                                       * resolution, SqPrepared.step): candidates are seen
-                                       * through it (sq_fit_features_blurred) */
+                                       * step and its own blur, sq_fit_strip_blur):
+                                       * candidates are seen through it
+                                       * (sq_fit_features_blurred) */
 } SqFeatures;
 
 /* The objectives, in order. */
