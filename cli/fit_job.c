@@ -244,9 +244,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
                             "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
                             "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "
-                            "the champion becomes its plain twin");
+                            "the champion becomes its plain twin, unless the twin scores more than 5% worse");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
+    if (r->twin_score > 0)
+        cJSON_AddItemToObject(root, "plain_twin_score", sq__json_exact_number(r->twin_score));
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));

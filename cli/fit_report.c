@@ -146,6 +146,10 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         cli_buf_put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
                 "colour): best.json is its plain twin%s. ",
             100 * r->visibility, r->nfront > 1 ? ", and the pattern itself is front/01.json" : "");
+    else if (r->twin_score > 0)
+        cli_buf_put(&b, "The fitted pattern looks faint (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
+                "colour), but its plain twin scored %.3f, more than 5%% worse: the pattern stays. ",
+            100 * r->visibility, r->twin_score);
     if (r->polish_before > 0)
         cli_buf_put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");

@@ -838,12 +838,15 @@ double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre
 
 /* A champion whose pattern nobody can see is a plain skin: it becomes its plain twin (no
  * pattern, no layers, the background its dominant colour), re-scored, and leads the front
- * with the invisible original behind it. */
+ * with the invisible original behind it, when the twin scores within PARSIMONY of it.
+ * A twin that scores worse shows that the objectives see what the eye test does not (a
+ * pattern of small differences all over the skin): the pattern stays. */
 static void plain_twin(Fit *f)
 {
     SqFitResult *r = f->r;
     SqFitCandidate *b = &r->best;
     r->visibility = 0;
+    r->twin_score = 0;
     if (b->params.Pattern_Type == SQ_PATTERN_NONE && b->params.Pattern_Layers.count == 0)
         return;
     double dom[3];
@@ -857,7 +860,8 @@ static void plain_twin(Fit *f)
         twin.params.Background_Color[c] = dom[c];
     twin.params.Background_Color[3] = 1;
     rescore(f, &twin, 1);
-    if (!isfinite(twin.score))
+    r->twin_score = twin.score;
+    if (!isfinite(twin.score) || twin.score > (1 + PARSIMONY) * b->score)
         return;
     SqFitCandidate *grown = realloc(r->front, sizeof *grown * (size_t)(r->nfront + 1)); /* room for it */
     if (!grown)

@@ -184,6 +184,40 @@ static void an_invisible_pattern_is_a_plain_skin(void **state)
     sq_fit_result_free(&r);
 }
 
+/* Faint stripes: too faint for the eye test (under 5 CIEDE2000 from the skin), but the
+ * objectives see them, and their plain twin scores worse: the stripes stay. (The truth is
+ * a starting candidate, so that the champion is an invisible pattern.) */
+static void a_faint_pattern_the_objectives_see_stays(void **state)
+{
+    (void)state;
+    char path[4096];
+    SqParams p;
+    SqFeatures faint;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), &p,
+                                    NULL, NULL),
+                     SQ_OK);
+    for (int c = 0; c < 3; c++)
+        p.Longitudinal_StripesColor[c] = fmin(p.Background_Color[c] + 0.035, 1);
+    double dom[3];
+    assert_true(sq_fit_pattern_visibility(&p, 128, 0.5, dom, NULL) < 0.02);
+    assert_int_equal(features_of(&p, &faint), 0);
+    SqFitCandidate start = {.params = p, .view_scale = TRUE_SCALE};
+    SqFitOptions o = small(2);
+    o.max_evals = 600;
+    o.categories = 1u << SQ_PATTERN_LONGITUDINAL;
+    o.seeds = &start;
+    o.nseeds = 1;
+    SqFitResult r;
+    assert_int_equal(sq_fit_run(&faint, &o, &r, NULL), SQ_OK);
+    printf("  visibility %.3f, twin %d (score %.3f against %.3f)\n", r.visibility, r.plain_twin, r.twin_score,
+           r.best.score);
+    assert_true(r.visibility < 0.02);    /* invisible to the eye test */
+    assert_true(r.twin_score > 1.05 * r.best.score); /* the twin was tried, and lost */
+    assert_int_equal(r.plain_twin, 0);
+    assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
+    sq_fit_result_free(&r);
+}
+
 /* Every kind can be screened and evolved, reaction-diffusion and layered skins included;
  * by default the six categories are; a mask keeps the fit to the kinds named. */
 static void categories_fitted(void **state)
@@ -311,6 +345,7 @@ int main(void)
         cmocka_unit_test(categories_fitted),
         cmocka_unit_test(visibility_measures_what_shows),
         cmocka_unit_test(an_invisible_pattern_is_a_plain_skin),
+        cmocka_unit_test(a_faint_pattern_the_objectives_see_stays),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

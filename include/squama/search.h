@@ -185,7 +185,8 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
  *     (see SqFitResult.norm; the simplest kind within 5% of the best is preferred: plain,
  *     stripes or bands, spots, automata, layered, reaction-diffusion); the champion polished by
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
- *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility).
+ *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
+ *     unless the twin scores more than 5% worse.
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
@@ -285,6 +286,8 @@ typedef struct SqFitResult {
     int polish_kept;
     double visibility;       /* the fitted pattern's visibility (sq_fit_pattern_visibility) */
     int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
+    double twin_score;       /* the plain twin's score when the pattern was invisible, else 0;
+                                more than 5% above the champion's, the pattern stays */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
