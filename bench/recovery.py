@@ -10,9 +10,12 @@ Prints a table per category and overall: category accuracy, median CIEDE2000 bet
 true and fitted dominant colours, median distance ratio (the fit's feature distance to the
 photo over the true preset's: 1 = the fit explains the photo as well as the truth does; the
 texture-space ratio over a reseeded truth is kept in rows.json but degenerates for patterns
-without randomness, whose reseeded distance is near 0); then, per baseline, the median ratio of its final score
+without randomness, whose reseeded distance is near 0), and how far off the fitted scale grid
+is (median |log2| of fitted over true scales across the body, and along it per body
+circumference); then, per baseline, the median ratio of its final score
 to squama's on the same photo (> 1: squama is better) and how often squama won.
-Ends with: RESULT recovery n=... accuracy=... de00_median=... ratio_median=... <method>_score_ratio=...
+Ends with: RESULT recovery n=... accuracy=... de00_median=... ratio_median=... scales_across=...
+scales_along=... <method>_score_ratio=...
 
 Work goes to --out (default build-bench/recovery); finished steps are kept and skipped on
 a rerun with the same options, so a long run can be interrupted and continued.
@@ -23,6 +26,7 @@ right answer at all (0 = the photo's statistics exactly). Ends with:
 RESULT fidelity n=... palette=... histogram=... shape=... along=... across=... (means)"""
 import argparse
 import json
+import math
 import os
 import random
 import statistics
@@ -89,6 +93,19 @@ def compare(args, truth, view_t, fitted, photo, mask, norm):
     if out.returncode != 0:
         sys.exit("recovery: compare failed: " + out.stderr)
     return json.loads(out.stdout)
+
+
+def scale_errors(truth, view_t, fitted):
+    """How far the fitted scale grid is from the truth's, in octaves (|log2| of the ratio):
+    across the body (Scales_XAmount: the band's width is fixed) and along it, as the photo
+    shows it (Scales_YAmount over the view scale: scales per body circumference)."""
+    with open(truth) as f:
+        t = json.load(f)
+    with open(os.path.join(fitted["dir"], "best.json")) as f:
+        b = json.load(f)
+    across = abs(math.log2(b["Scales_XAmount"] / t["Scales_XAmount"]))
+    along = abs(math.log2((b["Scales_YAmount"] / fitted["view_scale"]) / (t["Scales_YAmount"] / view_t)))
+    return across, along
 
 
 def blame(row):
@@ -178,6 +195,7 @@ def main():
         row = {"i": i, "category": cat, "fitted": sq["category"], "score": sq["score"],
                "evals": sq["search"]["evaluations"], "view_t": view_t, "view_f": sq["view_scale"]}
         row.update(compare(args, truth, view_t, sq, photo, mask, norm))
+        row["scales_across"], row["scales_along"] = scale_errors(truth, view_t, sq)
         row["baselines"] = {}
         if args.baseline_every and i % args.baseline_every == 0:
             for m in BASELINES:
@@ -199,14 +217,19 @@ def main():
         return fidelity_table(rows)
     how = "--evals %d" % args.evals if args.evals else "--budget %s" % args.budget
     print("\nrecovery: %d ground truths, squama fit %s, true masks" % (args.n, how))
-    print("%-14s %3s %9s %10s %12s" % ("category", "n", "accuracy", "dE00 med", "ratio med"))
+    print("%-14s %3s %9s %10s %12s %14s" % ("category", "n", "accuracy", "dE00 med", "ratio med", "scales off x/y"))
     for cat in CATEGORIES + ["all"]:
         rs = [r for r in rows if cat in ("all", r["category"])]
         if not rs:
             continue
         acc = sum(r["fitted"] == r["category"] for r in rs) / len(rs)
-        print("%-14s %3d %8.0f%% %10.2f %12.2f" % (cat, len(rs), 100 * acc, med([r["palette_de00"] for r in rs]),
-                                                 med([r["ratio"] for r in rs])))
+        print("%-14s %3d %8.0f%% %10.2f %12.2f %7.2f/%-6.2f" % (cat, len(rs), 100 * acc,
+                                                             med([r["palette_de00"] for r in rs]),
+                                                             med([r["ratio"] for r in rs]),
+                                                             med([r["scales_across"] for r in rs]),
+                                                             med([r["scales_along"] for r in rs])))
+    print("(scales off: the median distance between the fitted and the true scale grid, in octaves, "
+          "across the body and along it)")
     wrong = [r for r in rows if r["fitted"] != r["category"]]
     if wrong:
         fitness = sum(blame(r) == "fitness" for r in wrong)
@@ -216,7 +239,9 @@ def main():
     acc = sum(r["fitted"] == r["category"] for r in rows) / len(rows)
     result = ["n=%d" % len(rows), "budget=%s" % (("%devals" % args.evals) if args.evals else args.budget), "accuracy=%.3f" % acc,
               "de00_median=%.2f" % med([r["palette_de00"] for r in rows]),
-              "ratio_median=%.2f" % med([r["ratio"] for r in rows])]
+              "ratio_median=%.2f" % med([r["ratio"] for r in rows]),
+              "scales_across=%.2f" % med([r["scales_across"] for r in rows]),
+              "scales_along=%.2f" % med([r["scales_along"] for r in rows])]
     withb = [r for r in rows if r["baselines"]]
     if withb:
         print("\nbaselines on %d photos at squama's evaluation count (score ratio > 1: squama better)" % len(withb))
