@@ -860,8 +860,10 @@ static void plain_twin(Fit *f)
         twin.params.Background_Color[c] = dom[c];
     twin.params.Background_Color[3] = 1;
     rescore(f, &twin, 1);
+    if (!isfinite(twin.score)) /* a twin that cannot be rendered: nothing to report */
+        return;
     r->twin_score = twin.score;
-    if (!isfinite(twin.score) || twin.score > (1 + PARSIMONY) * b->score)
+    if (twin.score > (1 + PARSIMONY) * b->score)
         return;
     SqFitCandidate *grown = realloc(r->front, sizeof *grown * (size_t)(r->nfront + 1)); /* room for it */
     if (!grown)
