@@ -21,6 +21,11 @@ extern "C" int sq__cv_resize(const float *src, int sw, int sh, int ch, float *ds
     }
 }
 
+/* GrabCut's colour models start from k-means, which draws from OpenCV's per-thread
+ * generator: seeded before every call, a mask depends on the photo alone, not on what ran
+ * on the thread before (a batch's second row, an MPI rank's). */
+static const int GRABCUT_SEED = 0x5eed;
+
 extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask)
 {
     try {
@@ -29,6 +34,7 @@ extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint
         cv::Mat m(h, w, CV_8UC1), bgd, fgd;
         int dx = (int)(inset * w), dy = (int)(inset * h);
         cv::Rect rect(dx, dy, w - 2 * dx, h - 2 * dy);
+        cv::setRNGSeed(GRABCUT_SEED);
         cv::grabCut(img, m, rect, bgd, fgd, 5, cv::GC_INIT_WITH_RECT);
         for (int i = 0; i < w * h; i++)
             mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
@@ -59,6 +65,7 @@ extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *m
             m.data[i] = sal8.data[i] >= hi ? cv::GC_PR_FGD : (sal8.data[i] <= lo ? cv::GC_BGD : cv::GC_PR_BGD);
         if (hi <= lo)
             return -1;
+        cv::setRNGSeed(GRABCUT_SEED);
         cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
         for (int i = 0; i < w * h; i++)
             mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;

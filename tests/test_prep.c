@@ -198,6 +198,12 @@ static void automatic_mask(void **state)
     }
     print_message("automatic mask: intersection over union %.2f\n", inter / uni);
     assert_true(inter / uni > 0.6);
+    /* the same photo, the same mask: what ran before on the thread (GrabCut draws from
+     * OpenCV's per-thread generator) changes nothing */
+    SqPrepared again;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, NULL, &again, &err), SQ_OK);
+    assert_memory_equal(prep.mask.px, again.mask.px, sizeof(float) * 480 * 360);
+    sq_fit_prepared_free(&again);
     sq_fit_prepared_free(&prep);
     sq_image_free(&photo);
     sq_image_free(&mask);
