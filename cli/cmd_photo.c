@@ -21,6 +21,7 @@ static const char help[] =
     "Renders PRESET onto a snake-like body lying along a random smooth curve (partial\n"
     "coils, foreshortening, key light and ambient using the normal and roughness maps)\n"
     "over a soil, leaf-litter or grass backdrop, then blurs, adds noise and a colour cast.\n"
+    "The whole body lies in the frame, clear of itself unless --coil is over 0.5.\n"
     "Writes PHOTO (.jpg or .png), its mask and a JSON of the truth: the preset, the body's\n"
     "centre line, radius and the view scale (body circumferences per texture tile).\n"
     "\n"

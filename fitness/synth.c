@@ -58,19 +58,84 @@ static int curve_alloc(Curve *c, int n)
     return c->x && c->y && c->tx && c->ty && c->r ? 0 : -1;
 }
 
-/* A random walk whose heading turns smoothly (three sines of random wavelength and phase),
- * steered back towards the middle near the frame's edges, its bends never tighter than
- * 1.3 body radii. */
-static int make_curve(const SqPhotoOptions *o, double r, Curve *c)
+enum { WALK_ATTEMPTS = 64 };
+
+/* One random walk into c, its heading turning smoothly (three sines of random wavelength
+ * and phase), steered back towards the middle near the frame's edges, its bends never
+ * tighter than 1.3 body radii; attempt 0, 1, ... draw different ones. Returns
+ * how far the body leaves the frame: the sum over its samples of how much of the radius
+ * is past an edge (0: all in). */
+static double walk(const SqPhotoOptions *o, double r, int attempt, Curve *c)
 {
     const int w = o->width, h = o->height;
     const uint64_t seed = o->seed;
+    const int max = (int)(1.4 * (w + h)) + 16, k0 = 64 * attempt;
+    const double margin = 1.5 * r;
+    double x = margin + sq__rand01(seed, STREAM_CURVE, k0 + 0) * (w - 2 * margin);
+    double y = margin + sq__rand01(seed, STREAM_CURVE, k0 + 1) * (h - 2 * margin);
+    double head = 2 * M_PI * sq__rand01(seed, STREAM_CURVE, k0 + 2);
+    double amp[3], wl[3], ph[3], cut = 0;
+    for (int k = 0; k < 3; k++) {
+        amp[k] = (0.3 + 0.7 * sq__rand01(seed, STREAM_CURVE, k0 + 10 + k)) * (0.15 + 0.85 * o->coil);
+        wl[k] = r * (6 + 24 * sq__rand01(seed, STREAM_CURVE, k0 + 20 + k));
+        ph[k] = 2 * M_PI * sq__rand01(seed, STREAM_CURVE, k0 + 30 + k);
+    }
+    const double kmax = 1.0 / (1.3 * r);
+    const double length = 0.9 * (w + h);
+    c->n = 0;
+    for (int i = 0; i < max && i < length; i++) {
+        c->x[c->n] = (float)x;
+        c->y[c->n] = (float)y;
+        c->n++;
+        double k = 0;
+        for (int j = 0; j < 3; j++)
+            k += amp[j] * sin(2 * M_PI * i / wl[j] + ph[j]);
+        k *= kmax;
+        /* near an edge, turn towards the middle */
+        double edge = fmin(fmin(x, w - x), fmin(y, h - y));
+        cut += fmax(0, r + 2 - edge); /* a pixel or two of grass beyond the outline */
+        if (edge < 3 * r) {
+            double want = atan2(h / 2.0 - y, w / 2.0 - x), diff = remainder(want - head, 2 * M_PI);
+            k += (diff > 0 ? 1 : -1) * kmax * (1 - fmax(edge, 0) / (3 * r));
+        }
+        k = fmax(-kmax, fmin(kmax, k));
+        head += k;
+        x += cos(head);
+        y += sin(head);
+    }
+    return cut;
+}
+
+/* How much of the body touches or lies on another part of itself: samples (every other
+ * pixel) nearer than a body width plus a pixel or two to a sample more than four radii
+ * further along. */
+static int touching(const Curve *c, double r)
+{
+    const int gap = (int)ceil(4 * r);
+    const double near = (2 * r + 2) * (2 * r + 2);
+    int n = 0;
+    for (int i = 0; i < c->n; i += 2)
+        for (int j = i + gap; j < c->n; j += 2) {
+            double dx = c->x[j] - c->x[i], dy = c->y[j] - c->y[i];
+            if (dx * dx + dy * dy < near) {
+                n++;
+                break;
+            }
+        }
+    return n;
+}
+
+/* The body's centre line: a gentle S for a preview, else a random walk (see walk) that
+ * keeps the body in the frame (and a gently coiled one clear of itself) where one of
+ * WALK_ATTEMPTS does. */
+static int make_curve(const SqPhotoOptions *o, double r, Curve *c)
+{
+    const int w = o->width, h = o->height;
     const int max = (int)(1.4 * (w + h)) + 16;
     if (curve_alloc(c, max))
         return -1;
-    double x, y, head;
     if (o->preview) { /* a gentle S, walked in one-pixel steps */
-        x = w * 0.06;
+        double x = w * 0.06, y;
         while (x < w * 0.94 && c->n < max) {
             double t = x / w - 0.06;
             y = h * (0.5 + 0.22 * sin(2 * M_PI * 1.25 * t / 0.88 + 0.4));
@@ -81,37 +146,24 @@ static int make_curve(const SqPhotoOptions *o, double r, Curve *c)
             x += 1.0 / sqrt(1 + slope * slope);
         }
     } else {
-        double margin = 1.5 * r;
-        x = margin + sq__rand01(seed, STREAM_CURVE, 0) * (w - 2 * margin);
-        y = margin + sq__rand01(seed, STREAM_CURVE, 1) * (h - 2 * margin);
-        head = 2 * M_PI * sq__rand01(seed, STREAM_CURVE, 2);
-        double amp[3], wl[3], ph[3];
-        for (int k = 0; k < 3; k++) {
-            amp[k] = (0.3 + 0.7 * sq__rand01(seed, STREAM_CURVE, 10 + k)) * (0.15 + 0.85 * o->coil);
-            wl[k] = r * (6 + 24 * sq__rand01(seed, STREAM_CURVE, 20 + k));
-            ph[k] = 2 * M_PI * sq__rand01(seed, STREAM_CURVE, 30 + k);
-        }
-        const double kmax = 1.0 / (1.3 * r);
-        const double length = 0.9 * (w + h);
-        for (int i = 0; i < max && i < length; i++) {
-            c->x[c->n] = (float)x;
-            c->y[c->n] = (float)y;
-            c->n++;
-            double k = 0;
-            for (int j = 0; j < 3; j++)
-                k += amp[j] * sin(2 * M_PI * i / wl[j] + ph[j]);
-            k *= kmax;
-            /* near an edge, turn towards the middle */
-            double edge = fmin(fmin(x, w - x), fmin(y, h - y));
-            if (edge < 3 * r) {
-                double want = atan2(h / 2.0 - y, w / 2.0 - x), diff = remainder(want - head, 2 * M_PI);
-                k += (diff > 0 ? 1 : -1) * kmax * (1 - fmax(edge, 0) / (3 * r));
+        /* walks until one keeps the whole body in the frame, as a photographer frames a
+         * snake, and clear of itself (above coil 0.5, a share of coil - 0.5 may touch:
+         * partial coils); else the one that leaves the frame least, then touches itself
+         * least */
+        double least = INFINITY;
+        int best = 0;
+        for (int attempt = 0; attempt < WALK_ATTEMPTS; attempt++) {
+            double cut = walk(o, r, attempt, c);
+            double bad = cut * 1e6 + fmax(0, touching(c, r) - fmax(0, o->coil - 0.5) * c->n / 2);
+            if (bad < least) {
+                least = bad;
+                best = attempt;
             }
-            k = fmax(-kmax, fmin(kmax, k));
-            head += k;
-            x += cos(head);
-            y += sin(head);
+            if (bad == 0)
+                break;
         }
+        if (least > 0)
+            walk(o, r, best, c);
     }
     /* the radius: a half-disc head over the first radius, the tail thinning over the last
      * eight radii to a sixth */

@@ -106,6 +106,45 @@ static void degradations_change_the_photo(void **state)
     sq_image_free(&m);
 }
 
+/* The body lies wholly in the frame, as a photographer would frame it: no part of it is cut
+ * off by an edge, whatever the seed, radius and coiling (the benchmark's ranges). */
+static void the_whole_body_stays_in_the_frame(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    o.width = 400;
+    o.height = 300;
+    o.texture_size = 32;
+    o.backdrop = SQ_BACKDROP_PLAIN;
+    for (unsigned seed = 1; seed <= 24; seed++) {
+        o.seed = seed;
+        o.coil = 0.2 + 0.6 * (seed % 4) / 3.0;
+        SqImage photo, mask;
+        SqPhotoTruth t;
+        SqError err;
+        assert_int_equal(sq_fit_synth_photo(&p, &o, &photo, &mask, &t, &err), SQ_OK);
+        for (int k = 0; k < t.npoints; k++) {
+            double x = t.points[2 * k], y = t.points[2 * k + 1];
+            double edge = fmin(fmin(x, 400 - x), fmin(y, 300 - y));
+            if (edge < t.body_radius)
+                fail_msg("seed %u: centre-line point %d of %d at (%.0f, %.0f), %.1f px from the edge, radius %.1f",
+                         seed, k, t.npoints, x, y, edge, t.body_radius);
+        }
+        int border = 0;
+        for (int x = 0; x < 400; x++)
+            border += (mask.px[x] > 0.5f) + (mask.px[299 * 400 + x] > 0.5f);
+        for (int y = 0; y < 300; y++)
+            border += (mask.px[y * 400] > 0.5f) + (mask.px[y * 400 + 399] > 0.5f);
+        if (border)
+            fail_msg("seed %u: %d mask pixels on the frame's edge", seed, border);
+        sq_image_free(&photo);
+        sq_image_free(&mask);
+        sq_fit_truth_free(&t);
+    }
+}
+
 static void refusals(void **state)
 {
     (void)state;
@@ -133,6 +172,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(photo_of_a_plain_red_snake),
         cmocka_unit_test(degradations_change_the_photo),
+        cmocka_unit_test(the_whole_body_stays_in_the_frame),
         cmocka_unit_test(refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

