@@ -653,7 +653,10 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
  * SQ_FIT_LIGHT_STEP rows: as much of the path as a candidate's strip is long, in four
  * pieces from along the body (each at the photo's own rate: the light turns as fast as
  * there, and the candidate sees the lights of the whole body), the rows between runs
- * skipped. tangent: the rows' unit tangent in the photo (x NAN between runs). */
+ * skipped. Where two pieces join, the body's heading turns from one to the other over
+ * BLEND rows, as round a bend (a sudden turn would draw a seam across the candidate's
+ * strip that no photo has). tangent: the rows' unit tangent in the photo (x NAN between
+ * runs). */
 static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
                            float light_xy[2])
 {
@@ -706,13 +709,28 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
     for (int y = 0; y < n; y++)
         if (isfinite(tangent[y][0]))
             along[rows++] = y;
-    enum { SPAN = SQ_FIT_CANDIDATE_ROWS, PIECES = 4, PIECE = SPAN / PIECES };
+    enum { SPAN = SQ_FIT_CANDIDATE_ROWS, PIECES = 4, PIECE = SPAN / PIECES, BLEND = 24 };
     _Static_assert(PIECE % SQ_FIT_LIGHT_STEP == 0, "a piece is whole light rows");
     const int used = rows < SPAN ? rows : SPAN;
     double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
     for (int r = 0; r < used; r++) {
-        const int p = r / PIECE, i = rows <= SPAN ? r : p * (rows - PIECE) / (PIECES - 1) + r % PIECE;
-        const double tx = tangent[along[i]][0], ty = tangent[along[i]][1];
+        /* piece p's row r % PIECE; near a joint, blended with the next piece's path
+         * running on (or the previous one's) so the light turns there as round a bend */
+        const int p = r / PIECE, q = r % PIECE;
+        int i0 = rows <= SPAN ? r : p * (rows - PIECE) / (PIECES - 1) + q, i1 = i0;
+        double t = 0;
+        if (rows > SPAN && q >= PIECE - BLEND / 2 && p + 1 < PIECES) {
+            i1 = (p + 1) * (rows - PIECE) / (PIECES - 1) + q - PIECE;
+            t = (q - (PIECE - BLEND / 2) + 0.5) / BLEND;
+        } else if (rows > SPAN && q < BLEND / 2 && p > 0) {
+            i1 = (p - 1) * (rows - PIECE) / (PIECES - 1) + q + PIECE;
+            t = (BLEND / 2 - q - 0.5) / BLEND;
+        }
+        i1 = i1 < 0 ? 0 : (i1 >= rows ? rows - 1 : i1);
+        const double a0 = atan2(tangent[along[i0]][1], tangent[along[i0]][0]);
+        const double a1 = atan2(tangent[along[i1]][1], tangent[along[i1]][0]);
+        const double ang = a0 + t * remainder(a1 - a0, 2 * M_PI); /* the shorter way round */
+        const double tx = cos(ang), ty = sin(ang);
         double *o = acc[r / SQ_FIT_LIGHT_STEP];
         o[0] += lx * -ty + ly * tx; /* across: the columns' way */
         o[1] -= lx * tx + ly * ty;  /* up the texture: against the rows */

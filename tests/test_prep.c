@@ -157,6 +157,15 @@ static void light_from_the_shading(void **state)
             const float *d = prep.light.dir[i];
             assert_true(fabs(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - 1) < 1e-4);
             assert_true(d[2] > 0.7f && d[2] < 0.8f); /* the key's elevation: the full tilt found */
+            /* the light turns as round a bend, where the strip's four pieces of the body
+             * join too: at most 30 degrees from one light row to the next */
+            if (i > 0) {
+                const float *e = prep.light.dir[i - 1];
+                double turn = fabs(remainder(atan2(d[1], d[0]) - atan2(e[1], e[0]), 360 * deg));
+                if (turn > 30 * deg)
+                    fail_msg("seed %u: the light turns %.0f degrees between rows %d and %d", seed, turn / deg,
+                             i - 1, i);
+            }
         }
         sq_fit_prepared_free(&prep);
         sq_fit_truth_free(&t);

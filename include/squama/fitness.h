@@ -43,7 +43,8 @@ enum {
  * back and forth past the ends. rows 0: the default key light, from the upper left
  * (x -0.35, y 0.55, z 0.76). A photo's light (SqPrepared.light) is four pieces of the
  * light along its body, each at the body's own rate, SQ_FIT_CANDIDATE_ROWS strip rows
- * in all: the light there, not at the photo strip's row 4i. */
+ * in all, turning smoothly where they join: the light there, not at the photo strip's
+ * row 4i. */
 enum {
     SQ_FIT_CANDIDATE_ROWS = 256, /* the length of a candidate's strip when it is scored */
     SQ_FIT_LIGHT_STEP = 4,
