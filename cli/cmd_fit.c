@@ -34,7 +34,7 @@ static const char help[] =
     "                   budget, timings, convergence\n"
     "  front/NN.json    the Pareto front of alternatives, best first\n"
     "  basecolor.png height.png roughness.png normal.png   the best preset's maps\n"
-    "  preview.png      the best preset on a snake body\n"
+    "  preview.png      the best preset on a snake body, at the fitted view scale\n"
     "  photo.jpg mask.png strip.png fitted_strip.png   the prepared photo and the fit's view\n"
     "  report.html      all of it side by side, with convergence and Pareto-front plots\n"
     "  checkpoint/      the front so far, for --resume\n"

@@ -178,7 +178,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         po.width = 1024;
         po.height = 640;
         po.preview = 1;
-        po.view_scale = 1.5;
+        po.view_scale = r->best.view_scale; /* the pattern as big on the body as in the photo */
         po.texture_size = 512;
         SqImage photo, mask;
         st = sq_fit_synth_photo(&r->best.params, &po, &photo, &mask, NULL, err);

@@ -124,7 +124,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},
         {"strip.png", "straightened body"}, {"fitted_strip.png", "the fit, seen the same way"},
         {"basecolor.png", "fitted texture (base colour)"}, {"normal.png", "normal map"},
-        {"preview.png", "preview on a snake body"}};
+        {"preview.png", "preview on a snake body, at the fitted view scale"}};
     for (size_t i = 0; i < sizeof pics / sizeof pics[0]; i++)
         cli_buf_put(&b, "<figure><a href='%s'><img src='%s' alt='%s'></a><figcaption>%s</figcaption></figure>\n", pics[i][0],
             pics[i][0], pics[i][1], pics[i][1]);

@@ -219,7 +219,7 @@ d = f["drops"]  # the niches dropped, in order, none of them a survivor
 assert all(x["category"] in f["niches"] and x["judged"] > 0 for x in d), d
 assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
-assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html
+assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html and "at the fitted view scale" in html
 PY
 fi
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json
