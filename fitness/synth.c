@@ -63,8 +63,8 @@ enum { WALK_ATTEMPTS = 64 };
 /* One random walk into c, its heading turning smoothly (three sines of random wavelength
  * and phase), steered back towards the middle near the frame's edges, its bends never
  * tighter than 1.3 body radii; attempt 0, 1, ... draw different ones. Returns
- * how far the body leaves the frame: the sum over its samples of how much of the radius
- * is past an edge (0: all in). */
+ * how far the body leaves the frame: the sum over its samples of how much of the radius,
+ * and a margin of two pixels, is past an edge (0: all in). */
 static double walk(const SqPhotoOptions *o, double r, int attempt, Curve *c)
 {
     const int w = o->width, h = o->height;
