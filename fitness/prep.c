@@ -713,17 +713,20 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
     _Static_assert(PIECE % SQ_FIT_LIGHT_STEP == 0, "a piece is whole light rows");
     const int used = rows < SPAN ? rows : SPAN;
     double acc[SQ_FIT_LIGHT_ROWS][3] = {{0}};
+    int start[PIECES]; /* each piece's first row along the body */
+    for (int j = 0; j < PIECES; j++)
+        start[j] = rows <= SPAN ? j * PIECE : j * (rows - PIECE) / (PIECES - 1);
     for (int r = 0; r < used; r++) {
         /* piece p's row r % PIECE; near a joint, blended with the next piece's path
          * running on (or the previous one's) so the light turns there as round a bend */
         const int p = r / PIECE, q = r % PIECE;
-        int i0 = rows <= SPAN ? r : p * (rows - PIECE) / (PIECES - 1) + q, i1 = i0;
+        int i0 = start[p] + q, i1 = i0;
         double t = 0;
         if (rows > SPAN && q >= PIECE - BLEND / 2 && p + 1 < PIECES) {
-            i1 = (p + 1) * (rows - PIECE) / (PIECES - 1) + q - PIECE;
+            i1 = start[p + 1] + q - PIECE;
             t = (q - (PIECE - BLEND / 2) + 0.5) / BLEND;
         } else if (rows > SPAN && q < BLEND / 2 && p > 0) {
-            i1 = (p - 1) * (rows - PIECE) / (PIECES - 1) + q + PIECE;
+            i1 = start[p - 1] + q + PIECE;
             t = (BLEND / 2 - q - 0.5) / BLEND;
         }
         i1 = i1 < 0 ? 0 : (i1 >= rows ? rows - 1 : i1);
