@@ -45,6 +45,17 @@ static void light_at(const SqLight *light, int j, float L[3], float H[3])
         H[k] /= hl;
 }
 
+/* The diffuse shading of squama photo's body: ambient, Lambert, and a darkening towards
+ * the sides (cs: the cosine of the column's angle round the body). */
+#define SHADE(diff, cs) ((0.30f + 0.85f * ((diff) > 0 ? (diff) : 0)) * (0.75f + 0.25f * (cs)))
+
+/* The shading of the smooth body (the cylinder's own normal) in a column at angle
+ * (sin, cos) = cyl, under the unit light L. */
+static float smooth_shade(const float cyl[2], const float L[3])
+{
+    return SHADE(cyl[0] * L[0] + cyl[1] * L[2], cyl[1]);
+}
+
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err)
@@ -91,6 +102,22 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         cyl[i][0] = (float)sin(th);
         cyl[i][1] = (float)cos(th);
     }
+    /* The smooth body's shading (the cylinder without the relief) changes along the strip
+     * as the light turns; the photo's strip has those changes divided out by its light
+     * normalisation, smoothed over a strip width because it must see through the pattern.
+     * A candidate's light turns faster than that where the pieces of the photo's light
+     * join (a 60-degree swing of the shading's tilt over 24 rows, say), which the same
+     * normalisation leaves as dark and bright blocks no photo has. So each row's departure
+     * of that shading from its mean over the rows is divided out here, exactly; the mean
+     * across profile stays for the normalisation below, as in the photo. */
+    float mean_shade[SQ_FIT_STRIP_W] = {0};
+    if (normal)
+        for (int j = 0; j < length; j++) {
+            float L[3], H[3];
+            light_at(light, j, L, H);
+            for (int i = 0; i < SQ_FIT_STRIP_W; i++)
+                mean_shade[i] += smooth_shade(cyl[i], L) / (float)length;
+        }
     sq__lab_init();
     for (int j = 0; j < length; j++) {
         float L[3], H[3], acc[SQ_FIT_STRIP_W][3];
@@ -135,7 +162,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float g = 1.0f - rr, spec = 0;
                     if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
                         spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
-                    float shade = (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
+                    float shade = SHADE(diff, cs);
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += sq__srgb_to_linear_lut(o[k]) * shade + spec;
                 } else { /* base colour only: averaged in linear light too */
@@ -146,8 +173,9 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             float *o = sq_image_at(strip, i, j);
+            const float k0 = normal ? mean_shade[i] / smooth_shade(cyl[i], L) : 1.0f;
             for (int k = 0; k < 3; k++)
-                o[k] = sq__linear_to_srgb_lut(acc[i][k] * inv_n);
+                o[k] = sq__linear_to_srgb_lut(acc[i][k] * inv_n * k0);
         }
     }
     sq__fit_normalise_light(strip, NULL); /* as the photo's strip */

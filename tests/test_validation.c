@@ -223,7 +223,9 @@ static void other_simple(void **state)
 /* A candidate lit the way the photo is lit (the light turning with the body) looks more
  * like the photo of itself than one under the fixed key light: the truth's shape and
  * layout objectives fall, summed over plain, striped, banded and spotted photos of a
- * winding body, five of each. (Photo by photo it varies: spots often lose a little.) */
+ * winding body, five of each: by over a fifth since the smooth body's shading no longer
+ * turns with the candidate's light (12.5 key, 9.1 lit; 11.0 lit before). Photo by photo it
+ * varies: spots gain least, about even. */
 static void lit_like_the_photo(void **state)
 {
     (void)state;
@@ -257,7 +259,7 @@ static void lit_like_the_photo(void **state)
             sq_fit_truth_free(&truth);
         }
     print_message("  summed: key light %.3f, the photo's %.3f\n", key, lit);
-    assert_true(lit < 0.95 * key);
+    assert_true(lit < 0.8 * key);
 }
 
 /* The same preset re-seeded scores alike: a fit can compare candidates by one instance. */

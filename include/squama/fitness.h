@@ -112,7 +112,10 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
  * step by band_width / SQ_FIT_STRIP_W / view_scale in v. With the normal and roughness
  * maps the body is lit as a glossy cylinder the way `squama photo` lights it, specular
  * highlight included (its diffuse fall-off is divided out again with the photo's light
- * normalisation), by `light` (see SqLight; NULL or no rows: the key light); without the
+ * normalisation; as the light turns along the strip, the smooth body's shading departs
+ * from its mean over the rows, and that departure is divided out exactly, as a photo's
+ * normalisation does where its light turns slowly), by `light` (see SqLight; NULL or no
+ * rows: the key light); without the
  * maps (both NULL) the strip is the base colour as it is. */
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, const SqLight *light, double view_scale,
