@@ -71,7 +71,7 @@ def run(cmd, log):
 
 def fit(args, photo, mask, out, extra):
     """A fit, kept for a rerun only when the same command (program, budget) made it."""
-    cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", "1", "--size", "256", "-q"]
+    cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", str(args.seed), "--size", "256", "-q"]
     if args.threads:
         cmd += ["-j", str(args.threads)]
     cmd += extra
@@ -160,6 +160,9 @@ def main():
     ap.add_argument("--baseline-every", type=int, default=3,
                     help="run the baselines on every K-th photo (default 3; 0: none)")
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=1,
+                    help="the fits' seed (default 1); the photos stay the same: a second seed says "
+                         "how much of a difference between two runs is one fit's luck")
     ap.add_argument("--out", default="build-bench/recovery")
     ap.add_argument("--fidelity", action="store_true",
                     help="score each truth against its own photo instead of fitting")
