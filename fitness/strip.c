@@ -47,13 +47,16 @@ static void light_at(const SqLight *light, int j, float L[3], float H[3])
 
 /* The diffuse shading of squama photo's body: ambient, Lambert, and a darkening towards
  * the sides (cs: the cosine of the column's angle round the body). */
-#define SHADE(diff, cs) ((0.30f + 0.85f * ((diff) > 0 ? (diff) : 0)) * (0.75f + 0.25f * (cs)))
+static inline float shade_of(float diff, float cs)
+{
+    return (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
+}
 
 /* The shading of the smooth body (the cylinder's own normal) in a column at angle
  * (sin, cos) = cyl, under the unit light L. */
 static float smooth_shade(const float cyl[2], const float L[3])
 {
-    return SHADE(cyl[0] * L[0] + cyl[1] * L[2], cyl[1]);
+    return shade_of(cyl[0] * L[0] + cyl[1] * L[2], cyl[1]);
 }
 
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
@@ -108,16 +111,23 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
      * A candidate's light turns faster than that where the pieces of the photo's light
      * join (a 60-degree swing of the shading's tilt over 24 rows, say), which the same
      * normalisation leaves as dark and bright blocks no photo has. So each row's departure
-     * of that shading from its mean over the rows is divided out here, exactly; the mean
-     * across profile stays for the normalisation below, as in the photo. */
-    float mean_shade[SQ_FIT_STRIP_W] = {0};
-    if (normal)
+     * of that shading from its mean over the rows is divided out here, exactly (the
+     * highlights with it, as the photo's normalisation divides its own); the mean across
+     * profile stays for the normalisation below, as in the photo. A light that does not
+     * turn (the key light, or one row) leaves the strip as it was, bit for bit. */
+    const int turns = normal && light && light->rows > 1;
+    float mean_shade[SQ_FIT_STRIP_W];
+    if (turns) {
+        double sum[SQ_FIT_STRIP_W] = {0};
         for (int j = 0; j < length; j++) {
             float L[3], H[3];
             light_at(light, j, L, H);
             for (int i = 0; i < SQ_FIT_STRIP_W; i++)
-                mean_shade[i] += smooth_shade(cyl[i], L) / (float)length;
+                sum[i] += smooth_shade(cyl[i], L);
         }
+        for (int i = 0; i < SQ_FIT_STRIP_W; i++)
+            mean_shade[i] = (float)(sum[i] / length);
+    }
     sq__lab_init();
     for (int j = 0; j < length; j++) {
         float L[3], H[3], acc[SQ_FIT_STRIP_W][3];
@@ -162,7 +172,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float g = 1.0f - rr, spec = 0;
                     if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
                         spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
-                    float shade = SHADE(diff, cs);
+                    float shade = shade_of(diff, cs);
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += sq__srgb_to_linear_lut(o[k]) * shade + spec;
                 } else { /* base colour only: averaged in linear light too */
@@ -173,7 +183,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             float *o = sq_image_at(strip, i, j);
-            const float k0 = normal ? mean_shade[i] / smooth_shade(cyl[i], L) : 1.0f;
+            const float k0 = turns ? mean_shade[i] / smooth_shade(cyl[i], L) : 1.0f;
             for (int k = 0; k < 3; k++)
                 o[k] = sq__linear_to_srgb_lut(acc[i][k] * inv_n * k0);
         }

@@ -115,8 +115,8 @@ void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, do
  * normalisation; as the light turns along the strip, the smooth body's shading departs
  * from its mean over the rows, and that departure is divided out exactly, as a photo's
  * normalisation does where its light turns slowly), by `light` (see SqLight; NULL or no
- * rows: the key light); without the
- * maps (both NULL) the strip is the base colour as it is. */
+ * rows: the key light); without the maps (both NULL) the strip is the base colour as it
+ * is. */
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err);
