@@ -14,6 +14,15 @@
 
 #include <cmocka.h>
 
+/* SQ_TEST_FILTER=name (cmocka's pattern: * and ? wildcards) runs only the tests it
+ * matches, e.g. SQ_TEST_FILTER=an_invisible* build/tests/test_fit. */
+__attribute__((constructor)) static void sq_test_filter(void)
+{
+    const char *f = getenv("SQ_TEST_FILTER");
+    if (f && *f)
+        cmocka_set_test_filter(f);
+}
+
 /* Asserts that `hay` contains `needle`, printing both when it does not. */
 #define assert_contains(hay, needle)                                                  \
     do {                                                                              \
