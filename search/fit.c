@@ -128,6 +128,18 @@ static int out_of_budget(const Fit *f, double fraction)
     return 0;
 }
 
+/* How far the search is through its budget: the larger of its clock's and its
+ * evaluations' share (0 with neither). */
+static double progress(const Fit *f)
+{
+    double p = 0;
+    if (f->o.budget > 0)
+        p = elapsed(f) / f->o.budget;
+    if (f->o.max_evals > 0)
+        p = fmax(p, (double)f->evals / (double)f->o.max_evals);
+    return p;
+}
+
 static void score_of(const Fit *f, SqFitCandidate *c)
 {
     double s = 0;
@@ -322,14 +334,13 @@ static void colours_from_palette(Fit *f, SqParams *p, int category)
     set_colour(f, p->Outline_Color, dark);
 }
 
+/* A screening candidate: genes drawn over plausible ranges (g narrowed), colours from the
+ * photo's palette. */
 static void random_candidate(Fit *f, const SqGenome *g, SqFitCandidate *c)
 {
-    double x[SQ_GENOME_MAX];
-    sq_params_default(&c->params);
-    for (int i = 0; i < g->n; i++)
-        x[i] = sq__rng_uniform(&f->rng);
-    sq_genome_decode(g, x, &c->params);
+    sq__genome_draw(&f->rng, g, &c->params);
     colours_from_palette(f, &c->params, g->category);
+    sq__draw_bands(&f->rng, g, &c->params);
     if (g->has_ca) {
         uint64_t s = sq__rng_next(&f->rng);
         sq_gp_ca_random(&s, &c->params.CA_Descriptor);
@@ -403,10 +414,13 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
                 base = sq__rng_int(&f->rng, SQ_PATTERN_COUNT);
                 layer = sq__rng_int(&f->rng, SQ_PATTERN_COUNT);
             }
-            if ((i == 0 || kind == SQ_FIT_LAYERED) && sq_genome_init_layered(&g, base, layer, err) != SQ_OK) {
-                free(c);
-                free(col);
-                return err ? err->status : SQ_ERR_INTERNAL;
+            if (i == 0 || kind == SQ_FIT_LAYERED) {
+                if (sq_genome_init_layered(&g, base, layer, err) != SQ_OK) {
+                    free(c);
+                    free(col);
+                    return err ? err->status : SQ_ERR_INTERNAL;
+                }
+                sq__genome_narrow(&g); /* drawn over plausible ranges; the niches search all */
             }
             random_candidate(f, &g, &c[k++]);
         }
@@ -1251,9 +1265,11 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     out->seconds[0] = now() - t;
     report(&f, "screen", sq_fit_kind_of(&screened[0].params));
 
-    /* 2. evolution: every category is a niche at first; after each round of ROUND
-     * generations per niche the worst (by its best score) is dropped, until o->niches
-     * remain (successive halving, one at a time) */
+    /* 2. evolution: every category is a niche at first; the worst (judged by
+     * worst_niche) is dropped one at a time until o->niches remain. The drops split the
+     * stage's budget into equal rounds, as successive halving does (a niche dropped first
+     * still had a share of the budget, not a fixed few generations); a round ends with
+     * every niche having had as many generations, ROUND at least. */
     t = now();
     int nfin_max = ARCHIVE_MAX + CATEGORIES + 1;
     fin = malloc(sizeof *fin * (size_t)nfin_max);
@@ -1275,7 +1291,9 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             alive[nn++] = 1;
             nalive++;
         }
-        int z = 0, steps = 0;
+        const double start = progress(&f);
+        const int rounds = nalive > o->niches ? nalive - o->niches + 1 : 1;
+        int z = 0, steps = 0, drops = 0;
         while (!out_of_budget(&f, 0.8)) {
             Niche *nz = &niches[z];
             if (niche_step(&f, nz) != 0) {
@@ -1284,13 +1302,16 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             }
             f.generation++;
             report(&f, "evolve", nz->category);
-            if (++steps == ROUND * nalive && nalive > o->niches) {
+            ++steps;
+            if (nalive > o->niches && steps >= ROUND * nalive && steps % nalive == 0 &&
+                progress(&f) >= start + (0.8 - start) * (drops + 1) / rounds) {
                 double judged;
                 int worst = worst_niche(&f, niches, alive, nn, &judged);
                 alive[worst] = 0;
                 out->dropped_at[niches[worst].category] = f.evals;
                 out->judged[niches[worst].category] = judged;
                 nalive--;
+                drops++;
                 steps = 0;
             }
             do

@@ -2,6 +2,7 @@
 #ifndef SQ_SEARCH_INTERNAL_H
 #define SQ_SEARCH_INTERNAL_H
 
+#include "rng.h"
 #include "squama/params.h"
 
 /* The colour parameters a category paints its pattern with (in the base's pattern,
@@ -12,5 +13,15 @@ int sq__pattern_colours(SqPatternSpec *p, int category, double **list);
 struct SqGene;
 /* Where a gene lives in p: the base's parameter, or its layer's. */
 void *sq__gene_ptr(const struct SqGene *e, SqParams *p);
+
+struct SqGenome;
+/* Random draws (draw.c). sq__genome_narrow narrows a genome's ranges to those random
+ * candidates are drawn over (a search moves over the whole ranges of another copy);
+ * sq__genome_draw draws p's genes uniformly over g's ranges, other parameters at their
+ * defaults; sq__draw_bands replaces a transversal pattern's (or layer's) uniform bands with
+ * rings as banded snakes wear them. */
+void sq__genome_narrow(struct SqGenome *g);
+void sq__genome_draw(SqRng *r, const struct SqGenome *g, SqParams *p);
+void sq__draw_bands(SqRng *r, const struct SqGenome *g, SqParams *p);
 
 #endif

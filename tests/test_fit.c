@@ -107,6 +107,25 @@ static void recovers_category(void **state)
         }
     }
     assert_int_equal(dropped, SQ_PATTERN_COMPLEX - o.niches);
+    /* the drops split the evolution (from the screening's end to 80% of the budget) into
+     * equal rounds: the k-th comes k rounds in or later */
+    long at[SQ_FIT_KINDS];
+    int nat = 0;
+    for (int c = 0; c < SQ_FIT_KINDS; c++)
+        if (r.niche[c] && !r.survivor[c])
+            at[nat++] = r.dropped_at[c];
+    for (int i = 1; i < nat; i++) /* in order */
+        for (int j = i; j > 0 && at[j - 1] > at[j]; j--) {
+            long t = at[j];
+            at[j] = at[j - 1];
+            at[j - 1] = t;
+        }
+    const double start = (double)r.history[0].evals, round = (0.8 * (double)o.max_evals - start) / (nat + 1);
+    for (int k = 0; k < nat; k++) {
+        printf("  drop %d at %ld evaluations, the round ending at %.0f\n", k + 1, at[k], start + (k + 1) * round);
+        assert_true((double)at[k] >= start + (k + 1) * round);
+        assert_true(k == 0 || (double)(at[k] - at[k - 1]) < 2 * round); /* and not much later */
+    }
     assert_true(r.nhistory >= 3);
     for (int i = 1; i < r.nhistory; i++) /* the best so far never gets worse */
         assert_true(r.history[i].best_score <= r.history[i - 1].best_score);
@@ -155,14 +174,25 @@ static void visibility_measures_what_shows(void **state)
         assert_true(fabs(dom[c] - p.Background_Color[c]) < 0.02);
 }
 
-/* Spots are all a fit may use on a plain skin: the spots it finds are invisible, and the
- * champion is their plain twin, the spots kept behind it. */
+/* Spots are all a fit may use on a plain skin. Started from spots in the skin's own colour
+ * (so that the best spots are invisible, whatever else the search finds), the champion is
+ * their plain twin, the spots kept behind it. */
 static void an_invisible_pattern_is_a_plain_skin(void **state)
 {
     (void)state;
+    char path[4096];
+    SqParams p;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), &p,
+                                    NULL, NULL),
+                     SQ_OK);
+    p.Pattern_Type = SQ_PATTERN_SPOTS; /* the plain target's skin, spots in its colour */
+    memcpy(p.pattern.Spots_Color, p.Background_Color, sizeof p.pattern.Spots_Color);
+    SqFitCandidate start = {.params = p, .view_scale = TRUE_SCALE};
     SqFitOptions o = small(2);
     o.max_evals = 600;
     o.categories = 1u << SQ_PATTERN_SPOTS;
+    o.seeds = &start;
+    o.nseeds = 1;
     SqFitResult r;
     assert_int_equal(sq_fit_run(&plain, &o, &r, NULL), SQ_OK);
     printf("  visibility %.3f, twin %d, category %s\n", r.visibility, r.plain_twin,
@@ -177,6 +207,8 @@ static void an_invisible_pattern_is_a_plain_skin(void **state)
     sq_fit_result_free(&r);
     /* and a visible pattern stays */
     o.categories = 1u << SQ_PATTERN_LONGITUDINAL;
+    o.seeds = NULL;
+    o.nseeds = 0;
     assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
     assert_int_equal(r.plain_twin, 0);
     assert_true(r.visibility >= 0.02);

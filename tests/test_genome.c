@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "../search/search_internal.h" /* the random draws */
 #include "sq_test.h"
 #include "squama/search.h"
 
@@ -289,6 +290,49 @@ static void tournament_prefers_low_ranks(void **state)
     assert_int_equal(hist[n - 5], 0); /* worst rank, smallest crowding: wins only alone */
 }
 
+/* Random candidates are drawn over narrower ranges than the search moves over, and most
+ * lack colour noise, a post-process and an outline; a search's genome keeps its ranges. */
+static void draws_are_plausible(void **state)
+{
+    (void)state;
+    SqGenome full, g;
+    assert_int_equal(sq_genome_init(&full, SQ_PATTERN_SPOTS, NULL), SQ_OK);
+    g = full;
+    sq__genome_narrow(&g);
+    int tiling = -1;
+    for (int i = 0; i < g.n; i++)
+        if (strcmp(g.genes[i].spec->name, "Spots_Tiling") == 0)
+            tiling = i;
+    assert_true(tiling >= 0);
+    assert_true(g.genes[tiling].lo == 0.6 && g.genes[tiling].hi == 4);
+    assert_true(full.genes[tiling].lo < 0.6 && full.genes[tiling].hi > 4); /* untouched */
+    SqRng r;
+    sq__rng_seed(&r, 7);
+    enum { N = 2000 };
+    int noise0 = 0, blur0 = 0, warp0 = 0, outline0 = 0, scale_default = 0;
+    for (int k = 0; k < N; k++) {
+        SqParams p;
+        sq__genome_draw(&r, &g, &p);
+        assert_int_equal(sq_params_validate(&p, NULL), SQ_OK);
+        assert_int_equal(p.Pattern_Type, SQ_PATTERN_SPOTS);
+        assert_true(p.pattern.Spots_Tiling >= 0.6 && p.pattern.Spots_Tiling <= 4);
+        assert_true(p.Color_NoiseIntensity <= 0.3);
+        noise0 += p.Color_NoiseIntensity == 0;
+        blur0 += p.pattern.Pattern_BlurAmount == 0;
+        warp0 += p.pattern.Pattern_Warp_Large == 0;
+        outline0 += !p.Has_Outline;
+        scale_default += p.pattern.Spots_Scale == 0.5;
+    }
+    printf("  at the default: noise %d, blur %d, warp %d, no outline %d, spot scale %d of %d\n", noise0, blur0,
+           warp0, outline0, scale_default, N);
+    /* half the time at the default, else drawn (a continuous draw is never exactly 0) */
+    assert_true(noise0 > 0.45 * N && noise0 < 0.55 * N);
+    assert_true(blur0 > 0.45 * N && blur0 < 0.55 * N);
+    assert_true(warp0 > 0.45 * N && warp0 < 0.55 * N);
+    assert_true(outline0 > 0.70 * N && outline0 < 0.80 * N); /* and half the draws are false */
+    assert_int_equal(scale_default, 0);                       /* the pattern's own genes: always drawn */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -300,6 +344,7 @@ int main(void)
         cmocka_unit_test(levels_for_cmaes),
         cmocka_unit_test(gp_operators_keep_automata_valid),
         cmocka_unit_test(tournament_prefers_low_ranks),
+        cmocka_unit_test(draws_are_plausible),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

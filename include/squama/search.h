@@ -174,12 +174,15 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
  *  1. screen: every kind of skin (the categories the generator can make, and layered
  *     patterns; SQ_FIT_KINDS below), with random genes and the photo's
  *     palette as colours, each candidate scored at every view scale of the grid (the view
- *     scale is estimated on its own here, before anything else moves);
+ *     scale is estimated on its own here, before anything else moves); the genes are
+ *     drawn over plausible ranges, and colour noise, the pattern's post-process and an
+ *     outline are each left out half the time (search/draw.c);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
  *     candidate), GP operators moving its automata; every generation ranked by NSGA-II on
- *     the five objectives, one seed per generation (common random numbers); after every
- *     round of generations the worst niche is dropped until `niches` remain;
+ *     the five objectives, one seed per generation (common random numbers); the worst
+ *     niche is dropped one at a time until `niches` remain, the drops splitting the stage's
+ *     budget into equal rounds (successive halving);
  *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
  *     over several seeds at the fine size; the champion picked from the re-scored front
  *     (see SqFitResult.norm; the simplest kind within 5% of the best is preferred: plain,
