@@ -39,8 +39,11 @@ void sq__genome_narrow(SqGenome *g)
 }
 
 /* What most skins lack: colour noise, a blurred, contrasted or warped pattern, an outline.
- * Each is drawn at its default (none) half the time: a skin with all of them at random
- * values over their ranges is no snake's, and a random candidate would have several. */
+ * Each gene is drawn at its default (none) half the time, on its own (Has_Outline is then
+ * false three times in four): a skin with all of them at random values over their ranges
+ * is no snake's, and a random candidate would have several. Every one is linear, boolean
+ * or integer with its default at the bottom of its range, so that the default survives
+ * sq_genome_encode and decode exactly (a log gene's bottom is above 0). */
 static const char *const sparse[] = {
     "Color_NoiseIntensity", "Pattern_BlurAmount", "Pattern_Contrast", "Pattern_Warp_Small",
     "Pattern_Warp_Large",   "Has_Outline",        NULL,
@@ -67,26 +70,21 @@ void sq__genome_draw(SqRng *r, const SqGenome *g, SqParams *p)
     sq_genome_decode(g, x, p);
 }
 
-static double between(SqRng *r, double a, double b)
-{
-    return a + (b - a) * sq__rng_uniform(r);
-}
-
 /* Rings as banded snakes wear them, instead of three uniform intervals (which mostly fill
  * the tile): a first band 4% to 35% of the repeat long; a second one, half the time nested
  * in the first (drawn over it: a black-yellow-black triad of a coral snake), else elsewhere
  * or absent; a third, a third of the time, likewise within the second. */
 static void transversal_bands(SqRng *r, SqPatternSpec *p)
 {
-    double c = sq__rng_uniform(r), w = between(r, 0.04, 0.35);
+    double c = sq__rng_uniform(r), w = sq__rng_between(r, 0.04, 0.35);
     for (int i = 0; i < 3; i++) {
         if (i > 0) {
             const double u = sq__rng_uniform(r);
             if (u < (i == 1 ? 0.5 : 0.33)) {
-                w *= between(r, 0.2, 0.6); /* nested */
+                w *= sq__rng_between(r, 0.2, 0.6); /* nested */
             } else if (u < (i == 1 ? 0.8 : 0.6)) {
                 c = sq__rng_uniform(r);
-                w = between(r, 0.03, 0.2);
+                w = sq__rng_between(r, 0.03, 0.2);
             } else {
                 p->Transversal_BeginEnd[i][0] = p->Transversal_BeginEnd[i][1] = 1; /* omitted */
                 continue;

@@ -29,6 +29,10 @@ enum { FIT_RD_CELLS = 48 };
  * VISIBLE_DE (CIEDE2000, a difference anyone sees side by side). */
 static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
 
+/* The search (screening and evolution, or a baseline) ends at this share of the budget;
+ * re-scoring and the polish have the rest. */
+static const double SEARCH_END = 0.8;
+
 /* The view scale gene: log scale over the grid's range. */
 static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
 
@@ -1060,7 +1064,7 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     score_of(b->f, &c);
     if (c.score < b->best.score)
         b->best = c;
-    if (--b->left <= 0 || out_of_budget(b->f, 0.8))
+    if (--b->left <= 0 || out_of_budget(b->f, SEARCH_END))
         nlopt_force_stop(b->opt);
     return isfinite(c.score) ? c.score : 1e30;
 }
@@ -1073,13 +1077,13 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
         return;
     int n = g.n + 1;
     Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed};
-    long total = f->o.max_evals > 0 ? (long)(0.8 * (double)f->o.max_evals) - f->evals : 1000000;
+    long total = f->o.max_evals > 0 ? (long)(SEARCH_END * (double)f->o.max_evals) - f->evals : 1000000;
     b.left = total > 1 ? total : 1;
     double x[SQ_GENOME_MAX + 1];
     sq_genome_encode(&g, &start->params, x);
     x[g.n] = view_to_x(start->view_scale);
     if (f->o.method == SQ_FIT_RANDOM) {
-        while (b.left > 0 && !out_of_budget(f, 0.8)) {
+        while (b.left > 0 && !out_of_budget(f, SEARCH_END)) {
             for (int i = 0; i < n; i++)
                 x[i] = sq__rng_uniform(&f->rng);
             b.opt = NULL;
@@ -1269,7 +1273,10 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
      * worst_niche) is dropped one at a time until o->niches remain. The drops split the
      * stage's budget into equal rounds, as successive halving does (a niche dropped first
      * still had a share of the budget, not a fixed few generations); a round ends with
-     * every niche having had as many generations, ROUND at least. */
+     * every niche having had as many generations, ROUND at least. That floor decides on
+     * small budgets, where a round's share is less than ROUND generations of every niche:
+     * the drops then come later, and the last may not come before the search ends (more
+     * than o->niches survive; their bests are finalists anyway). */
     t = now();
     int nfin_max = ARCHIVE_MAX + CATEGORIES + 1;
     fin = malloc(sizeof *fin * (size_t)nfin_max);
@@ -1294,7 +1301,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         const double start = progress(&f);
         const int rounds = nalive > o->niches ? nalive - o->niches + 1 : 1;
         int z = 0, steps = 0, drops = 0;
-        while (!out_of_budget(&f, 0.8)) {
+        while (!out_of_budget(&f, SEARCH_END)) {
             Niche *nz = &niches[z];
             if (niche_step(&f, nz) != 0) {
                 st = sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
@@ -1304,7 +1311,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             report(&f, "evolve", nz->category);
             ++steps;
             if (nalive > o->niches && steps >= ROUND * nalive && steps % nalive == 0 &&
-                progress(&f) >= start + (0.8 - start) * (drops + 1) / rounds) {
+                progress(&f) >= start + (SEARCH_END - start) * (drops + 1) / rounds) {
                 double judged;
                 int worst = worst_niche(&f, niches, alive, nn, &judged);
                 alive[worst] = 0;

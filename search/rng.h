@@ -47,6 +47,12 @@ static inline double sq__rng_uniform(SqRng *r)
     return (double)(sq__rng_next(r) >> 11) * 0x1.0p-53;
 }
 
+/* uniform in [a, b) */
+static inline double sq__rng_between(SqRng *r, double a, double b)
+{
+    return a + (b - a) * sq__rng_uniform(r);
+}
+
 /* uniform integer in [0, n) */
 static inline int sq__rng_int(SqRng *r, int n)
 {

@@ -20,8 +20,10 @@ enum { DRAW_ROUNDS = 8 };
 
 /* Each objective's typical value between two random presets: the median over 600 random
  * pairs of sq_seed_category's plausible candidates of all six categories (64 of each, 128
- * pixels, seed 1). The distance divides by these, so that no objective drowns the others
- * (the palette's CIEDE2000 units would). */
+ * pixels, seed 1), measured before the sparse genes (search/draw.c) were drawn at their
+ * default half the time: a scale, not a calibration, and close enough for one. The
+ * distance divides by these, so that no objective drowns the others (the palette's
+ * CIEDE2000 units would). */
 static const double TYPICAL[SQ_OBJ_COUNT] = {21.5, 0.51, 0.30, 0.54, 0.49};
 
 /* A pattern counts when it covers this share of the skin or more, and leaves this much or
@@ -130,15 +132,10 @@ static void hsv_to_rgb(double h, double s, double v, double *rgb)
     rgb[2] = b + m;
 }
 
-static double between(SqRng *r, double a, double b)
-{
-    return a + (b - a) * sq__rng_uniform(r);
-}
-
 static void family_colour(SqRng *r, int fam, double *out)
 {
     const Family *f = &families[fam];
-    hsv_to_rgb(between(r, f->h0, f->h1), between(r, f->s0, f->s1), between(r, f->v0, f->v1), out);
+    hsv_to_rgb(sq__rng_between(r, f->h0, f->h1), sq__rng_between(r, f->s0, f->s1), sq__rng_between(r, f->v0, f->v1), out);
     out[3] = 1;
 }
 
@@ -181,7 +178,7 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
             if (from[0] >= 0)
                 family_colour(r, pick_from(r, from), list[i]);
             else /* tonal: a darker or, now and then, lighter shade of the skin */
-                shade(p->Background_Color, sq__rng_uniform(r) < 0.75 ? between(r, 0.35, 0.6) : between(r, 1.35, 1.7),
+                shade(p->Background_Color, sq__rng_uniform(r) < 0.75 ? sq__rng_between(r, 0.35, 0.6) : sq__rng_between(r, 1.35, 1.7),
                       list[i]);
         }
     }
@@ -190,8 +187,9 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
 
 /* ---- drawing and judging candidates ---- */
 
-/* A random candidate of the genome: genes uniform over their ranges, then colours from a
- * scheme, an automaton, and the reaction-diffusion grid the fit uses. */
+/* A random candidate of the genome (sq__genome_draw: genes uniform over the narrowed
+ * ranges, the sparse ones at their default half the time), then colours from a scheme,
+ * rings, an automaton, and the reaction-diffusion grid the fit uses. */
 static void draw_candidate(SqRng *r, const SqGenome *g, SqParams *p)
 {
     sq__genome_draw(r, g, p);

@@ -175,8 +175,9 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
  *     patterns; SQ_FIT_KINDS below), with random genes and the photo's
  *     palette as colours, each candidate scored at every view scale of the grid (the view
  *     scale is estimated on its own here, before anything else moves); the genes are
- *     drawn over plausible ranges, and colour noise, the pattern's post-process and an
- *     outline are each left out half the time (search/draw.c);
+ *     drawn over plausible ranges, and colour noise, each post-process gene (blur,
+ *     contrast, the two warps) and Has_Outline are each at their default (none) half the
+ *     time (search/draw.c);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
  *     candidate), GP operators moving its automata; every generation ranked by NSGA-II on
