@@ -19,8 +19,8 @@ struct SqGenome;
  * candidates are drawn over (a search moves over the whole ranges of another copy);
  * sq__genome_draw draws p's genes uniformly over g's ranges (colour noise, the
  * post-process genes and Has_Outline each at their default half the time), other
- * parameters at their defaults; sq__draw_bands replaces a transversal pattern's (or layer's) uniform bands with
- * rings as banded snakes wear them. */
+ * parameters at their defaults; sq__draw_bands replaces a transversal pattern's (or
+ * layer's) uniform bands with rings as banded snakes wear them. */
 void sq__genome_narrow(struct SqGenome *g);
 void sq__genome_draw(SqRng *r, const struct SqGenome *g, SqParams *p);
 void sq__draw_bands(SqRng *r, const struct SqGenome *g, SqParams *p);

@@ -135,7 +135,8 @@ static void hsv_to_rgb(double h, double s, double v, double *rgb)
 static void family_colour(SqRng *r, int fam, double *out)
 {
     const Family *f = &families[fam];
-    hsv_to_rgb(sq__rng_between(r, f->h0, f->h1), sq__rng_between(r, f->s0, f->s1), sq__rng_between(r, f->v0, f->v1), out);
+    hsv_to_rgb(sq__rng_between(r, f->h0, f->h1), sq__rng_between(r, f->s0, f->s1),
+               sq__rng_between(r, f->v0, f->v1), out);
     out[3] = 1;
 }
 
@@ -178,7 +179,8 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
             if (from[0] >= 0)
                 family_colour(r, pick_from(r, from), list[i]);
             else /* tonal: a darker or, now and then, lighter shade of the skin */
-                shade(p->Background_Color, sq__rng_uniform(r) < 0.75 ? sq__rng_between(r, 0.35, 0.6) : sq__rng_between(r, 1.35, 1.7),
+                shade(p->Background_Color,
+                      sq__rng_uniform(r) < 0.75 ? sq__rng_between(r, 0.35, 0.6) : sq__rng_between(r, 1.35, 1.7),
                       list[i]);
         }
     }
