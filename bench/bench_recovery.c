@@ -193,9 +193,10 @@ int main(int argc, char **argv)
 {
     if (argc == 6 && strcmp(argv[1], "truth") == 0)
         return truth(argv[2], argv[3], atol(argv[4]), argv[5]);
-    if (argc == 13 && strcmp(argv[1], "compare") == 0)
+    if (argc == 8 + SQ_OBJ_COUNT && strcmp(argv[1], "compare") == 0)
         return compare(argv + 2);
     fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
-                    "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM1..NORM5\n");
+                    "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM...\n"
+                    "       (one NORM per objective, in the order of sq_fit_objective_name)\n");
     return 2;
 }

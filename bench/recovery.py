@@ -39,6 +39,7 @@ import time
 SIMPLE = ["none", "longitudinal", "transversal", "spots", "other_simple"]
 SIMPLE_ROWS = 30
 CATEGORIES = SIMPLE + ["complex", "layered"]
+OBJECTIVES = ["palette", "histogram", "shape", "along", "across"]  # as squama score names them, in its order
 COMPLEX_ROWS = 6
 BASES = {
     "none": ["d11_five_lined_skink.json", "table_4_4_spots.json"],
@@ -87,8 +88,7 @@ def fit(args, photo, mask, out, extra):
 
 def compare(args, truth, view_t, fitted, photo, mask, norm):
     out = subprocess.run([args.tool, "compare", truth, "%.6f" % view_t, os.path.join(fitted["dir"], "best.json"),
-                          "%.6f" % fitted["view_scale"], photo, mask] + ["%.9g" % norm[k] for k in
-                         ["palette", "histogram", "shape", "along", "across"]],
+                          "%.6f" % fitted["view_scale"], photo, mask] + ["%.9g" % norm[k] for k in OBJECTIVES],
                          capture_output=True, text=True)
     if out.returncode != 0:
         sys.exit("recovery: compare failed: " + out.stderr)
@@ -125,7 +125,7 @@ def fidelity(args, i, cat, photo, mask, truth, view_t):
 
 
 def fidelity_table(rows):
-    keys = ["palette", "histogram", "shape", "along", "across"]
+    keys = OBJECTIVES
     print("\nfidelity: each truth scored against its own photo at its true view scale (lower is better)")
     print("%-14s %3s " % ("category", "n") + " ".join("%10s" % k for k in keys))
     for cat in CATEGORIES + ["all"]:

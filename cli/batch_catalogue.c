@@ -38,7 +38,8 @@ static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const 
     static const char *const head[] = {"id", "species", "expected", "fitted", "score", "palette", "histogram",
                                        "shape", "along", "across", "preset", "status", "error", "line",
                                        "seconds", "evaluations"};
-    enum { NCOL = sizeof head / sizeof head[0] };
+    enum { NCOL = sizeof head / sizeof head[0], OBJ0 = 5 /* the objectives' first column */ };
+    _Static_assert(NCOL == OBJ0 + SQ_OBJ_COUNT + 6, "a column for every objective");
     for (int k = 0; k < NCOL; k++)
         oom |= sq_io_csv_append(&buf, &len, &cap, head[k], k + 1 < NCOL ? ',' : '\n');
     for (int i = 0; i < n; i++) {
@@ -46,21 +47,22 @@ static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const 
         if (r->status == BATCH_PENDING)
             continue;
         int ok = r->status == BATCH_OK;
-        char num[8][64], preset[CLI_ID_MAX + 16] = "";
-        snprintf(num[0], sizeof num[0], "%.6g", r->score);
+        char score[64], obj[SQ_OBJ_COUNT][64], line[32], seconds[64], evals[32], preset[CLI_ID_MAX + 16] = "";
+        snprintf(score, sizeof score, "%.6g", r->score);
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
-            snprintf(num[1 + k], sizeof num[1 + k], "%.6g", r->obj[k]);
-        snprintf(num[6], sizeof num[6], "%d", rows[i].line);
-        snprintf(num[7], sizeof num[7], "%.1f", isfinite(r->seconds) ? r->seconds : 0);
-        char evals[32];
+            snprintf(obj[k], sizeof obj[k], "%.6g", r->obj[k]);
+        snprintf(line, sizeof line, "%d", rows[i].line);
+        snprintf(seconds, sizeof seconds, "%.1f", isfinite(r->seconds) ? r->seconds : 0);
         snprintf(evals, sizeof evals, "%ld", r->evals);
         if (ok)
             snprintf(preset, sizeof preset, "%s/best.json", rows[i].id);
         const char *f[NCOL] = {rows[i].id, rows[i].species, cat_name(rows[i].expected),
-                               ok ? cat_name(r->fitted) : "", ok ? num[0] : "", ok ? num[1] : "",
-                               ok ? num[2] : "", ok ? num[3] : "", ok ? num[4] : "", ok ? num[5] : "",
-                               preset, ok ? "ok" : "error", ok ? "" : r->error, num[6], ok ? num[7] : "",
-                               ok ? evals : ""};
+                               ok ? cat_name(r->fitted) : "", ok ? score : ""};
+        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+            f[OBJ0 + k] = ok ? obj[k] : "";
+        const char *tail[] = {preset, ok ? "ok" : "error", ok ? "" : r->error, line, ok ? seconds : "",
+                              ok ? evals : ""};
+        memcpy(f + OBJ0 + SQ_OBJ_COUNT, tail, sizeof tail);
         for (int k = 0; k < NCOL; k++)
             oom |= sq_io_csv_append(&buf, &len, &cap, f[k], k + 1 < NCOL ? ',' : '\n');
     }

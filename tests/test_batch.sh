@@ -80,8 +80,9 @@ d = sys.argv[1]
 rows = list(csv.DictReader(open(d + "/catalogue.csv", newline="")))
 assert [r["id"] for r in rows] == ["bands", "stripes", "gone", "text", "badmask", "stripes", "", "../up", "odd"], [r["id"] for r in rows]
 by = {(r["id"], r["line"]): r for r in rows}
-assert list(rows[0])[:13] == ["id", "species", "expected", "fitted", "score", "palette", "histogram", "shape",
-                              "along", "across", "preset", "status", "error"], list(rows[0])
+head = ["id", "species", "expected", "fitted", "score", "palette", "histogram", "shape", "along", "across",
+        "preset", "status", "error", "line", "seconds", "evaluations"]
+assert list(rows[0]) == head, list(rows[0])
 b = by["bands", "2"]
 assert b["species"] == "Banded, synthetic" and b["expected"] == "transversal" and b["preset"] == "bands/best.json"
 assert b["fitted"] in ("transversal", "longitudinal") and float(b["score"]) > 0 and float(b["shape"]) >= 0
