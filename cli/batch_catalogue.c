@@ -30,41 +30,56 @@ static const char *cat_name(int c)
     return c >= 0 ? sq_pattern_type_name(c) : "";
 }
 
+/* catalogue.csv's columns: these, the objectives (named as squama score names them), and
+ * these. */
+enum { NLEAD = 5, NTRAIL = 6 };
+static const char *const lead_head[NLEAD] = {"id", "species", "expected", "fitted", "score"};
+static const char *const trail_head[NTRAIL] = {"preset", "status", "error", "line", "seconds", "evaluations"};
+
+/* Appends one line of catalogue.csv; returns nonzero when out of memory. */
+static int csv_line(char **buf, size_t *len, size_t *cap, const char *const *lead, const char *const *obj,
+                    const char *const *trail)
+{
+    int oom = 0;
+    for (int k = 0; k < NLEAD; k++)
+        oom |= sq_io_csv_append(buf, len, cap, lead[k], ',');
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        oom |= sq_io_csv_append(buf, len, cap, obj[k], ',');
+    for (int k = 0; k < NTRAIL; k++)
+        oom |= sq_io_csv_append(buf, len, cap, trail[k], k + 1 < NTRAIL ? ',' : '\n');
+    return oom;
+}
+
 static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n, SqError *err)
 {
     char *buf = NULL;
     size_t len = 0, cap = 0;
-    int oom = 0;
-    static const char *const head[] = {"id", "species", "expected", "fitted", "score", "palette", "histogram",
-                                       "shape", "along", "across", "preset", "status", "error", "line",
-                                       "seconds", "evaluations"};
-    enum { NCOL = sizeof head / sizeof head[0], OBJ0 = 5 /* the objectives' first column */ };
-    _Static_assert(NCOL == OBJ0 + SQ_OBJ_COUNT + 6, "a column for every objective");
-    for (int k = 0; k < NCOL; k++)
-        oom |= sq_io_csv_append(&buf, &len, &cap, head[k], k + 1 < NCOL ? ',' : '\n');
+    const char *names[SQ_OBJ_COUNT];
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        names[k] = sq_fit_objective_name(k);
+    int oom = csv_line(&buf, &len, &cap, lead_head, names, trail_head);
     for (int i = 0; i < n; i++) {
         const BatchResult *r = &res[i];
         if (r->status == BATCH_PENDING)
             continue;
         int ok = r->status == BATCH_OK;
         char score[64], obj[SQ_OBJ_COUNT][64], line[32], seconds[64], evals[32], preset[CLI_ID_MAX + 16] = "";
+        const char *objp[SQ_OBJ_COUNT];
         snprintf(score, sizeof score, "%.6g", r->score);
-        for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        for (int k = 0; k < SQ_OBJ_COUNT; k++) {
             snprintf(obj[k], sizeof obj[k], "%.6g", r->obj[k]);
+            objp[k] = ok ? obj[k] : "";
+        }
         snprintf(line, sizeof line, "%d", rows[i].line);
         snprintf(seconds, sizeof seconds, "%.1f", isfinite(r->seconds) ? r->seconds : 0);
         snprintf(evals, sizeof evals, "%ld", r->evals);
         if (ok)
             snprintf(preset, sizeof preset, "%s/best.json", rows[i].id);
-        const char *f[NCOL] = {rows[i].id, rows[i].species, cat_name(rows[i].expected),
-                               ok ? cat_name(r->fitted) : "", ok ? score : ""};
-        for (int k = 0; k < SQ_OBJ_COUNT; k++)
-            f[OBJ0 + k] = ok ? obj[k] : "";
-        const char *tail[] = {preset, ok ? "ok" : "error", ok ? "" : r->error, line, ok ? seconds : "",
-                              ok ? evals : ""};
-        memcpy(f + OBJ0 + SQ_OBJ_COUNT, tail, sizeof tail);
-        for (int k = 0; k < NCOL; k++)
-            oom |= sq_io_csv_append(&buf, &len, &cap, f[k], k + 1 < NCOL ? ',' : '\n');
+        const char *lead[NLEAD] = {rows[i].id, rows[i].species, cat_name(rows[i].expected),
+                                   ok ? cat_name(r->fitted) : "", ok ? score : ""};
+        const char *trail[NTRAIL] = {preset, ok ? "ok" : "error", ok ? "" : r->error, line, ok ? seconds : "",
+                                     ok ? evals : ""};
+        oom |= csv_line(&buf, &len, &cap, lead, objp, trail);
     }
     char path[4096];
     snprintf(path, sizeof path, "%s/catalogue.csv", outdir);
