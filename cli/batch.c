@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,9 +52,39 @@ static SqStatus thumbnail(const char *src, const char *dst, SqError *err)
     return st;
 }
 
-/* DIR/<id>/done.json: the row and its outcome, everything the catalogue needs. */
-static SqStatus write_done(const char *dir, const CliManifestRow *row, const BatchResult *r, SqError *err)
+/* FNV-1a (64 bits) of a file's bytes as 16 hex digits, "" when it cannot be read: a row
+ * is known by its photo's and mask's contents, not by how their paths were spelled. */
+static void file_digest(const char *path, char out[BATCH_DIGEST])
 {
+    out[0] = 0;
+    FILE *fp = path ? fopen(path, "rb") : NULL;
+    if (!fp)
+        return;
+    uint64_t h = 0xcbf29ce484222325u;
+    unsigned char buf[1 << 16];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, fp)) > 0)
+        for (size_t i = 0; i < n; i++)
+            h = (h ^ buf[i]) * 0x100000001b3u;
+    if (!ferror(fp))
+        snprintf(out, BATCH_DIGEST, "%016llx", (unsigned long long)h);
+    fclose(fp);
+}
+
+void batch_settings(const CliFitJob *job, char *out, size_t n)
+{
+    const SqFitOptions *o = &job->fo;
+    snprintf(out, n, "budget=%g evals=%ld seed=%llu categories=%u size=%d work-size=%d", o->budget,
+             o->max_evals, (unsigned long long)o->seed, o->categories, job->size, job->po.work_size);
+}
+
+/* DIR/<id>/done.json: the row and its outcome, everything the catalogue needs, and what
+ * tells a later run whether it still stands (the inputs' digests, the fit's settings). */
+static SqStatus write_done(const char *dir, const Batch *b, const CliManifestRow *row, const BatchResult *r,
+                           const char *photo_digest, const char *mask_digest, SqError *err)
+{
+    char settings[sizeof ((BatchDone *)0)->settings];
+    batch_settings(&b->job, settings, sizeof settings);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", "squama-batch-row/1");
     cJSON_AddStringToObject(root, "id", row->id);
@@ -61,6 +92,11 @@ static SqStatus write_done(const char *dir, const CliManifestRow *row, const Bat
     cJSON_AddStringToObject(root, "photo", row->photo ? row->photo : "");
     if (row->mask)
         cJSON_AddStringToObject(root, "mask", row->mask);
+    if (photo_digest[0])
+        cJSON_AddStringToObject(root, "photo_digest", photo_digest);
+    if (mask_digest[0])
+        cJSON_AddStringToObject(root, "mask_digest", mask_digest);
+    cJSON_AddStringToObject(root, "settings", settings);
     cJSON_AddStringToObject(root, "species", row->species);
     if (row->expected >= 0)
         cJSON_AddStringToObject(root, "expected", sq_pattern_type_name(row->expected));
@@ -119,6 +155,12 @@ int batch_parse_done(const char *text, size_t len, BatchDone *d)
     snprintf(d->photo, sizeof d->photo, "%s", photo);
     const char *mask = json_str(root, "mask"), *species = json_str(root, "species");
     const char *expected = json_str(root, "expected");
+    const char *pd = json_str(root, "photo_digest"), *md = json_str(root, "mask_digest");
+    const char *settings = json_str(root, "settings");
+    snprintf(d->photo_digest, sizeof d->photo_digest, "%s", pd && strlen(pd) == BATCH_DIGEST - 1 ? pd : "");
+    snprintf(d->mask_digest, sizeof d->mask_digest, "%s", md && strlen(md) == BATCH_DIGEST - 1 ? md : "");
+    d->has_settings = settings != NULL;
+    snprintf(d->settings, sizeof d->settings, "%s", settings ? settings : "");
     snprintf(d->mask, sizeof d->mask, "%s", mask ? mask : "");
     snprintf(d->species, sizeof d->species, "%s", species ? species : "");
     d->expected = expected ? cli_manifest_category(expected) : -1;
@@ -168,10 +210,21 @@ int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out)
     BatchDone *d = malloc(sizeof *d);
     if (!d)
         return 0;
-    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 &&
-             strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
-             strcmp(d->mask, row->mask ? row->mask : "") == 0 &&
-             (d->r.status == BATCH_OK || errors_too);
+    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 && (d->r.status == BATCH_OK || errors_too);
+    if (ok && d->photo_digest[0]) { /* the same contents, wherever they are now */
+        char pd[BATCH_DIGEST], md[BATCH_DIGEST];
+        file_digest(row->photo, pd);
+        file_digest(row->mask, md);
+        ok = strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !md[0];
+    } else if (ok) { /* a row that failed to read its photo, or an older done.json: by path */
+        ok = strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
+             strcmp(d->mask, row->mask ? row->mask : "") == 0;
+    }
+    if (ok && d->has_settings) { /* fitted with other settings: fitted again */
+        char settings[sizeof d->settings];
+        batch_settings(&b->job, settings, sizeof settings);
+        ok = strcmp(d->settings, settings) == 0;
+    }
     if (ok) {
         *out = d->r;
         out->row = i;
@@ -199,6 +252,9 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     }
     if (cli_remove_tree(tmp) != 0) /* a partial row of an interrupted run */
         st = sq_error_set(&err, SQ_ERR_IO, tmp, "cannot remove the partial output: %s", strerror(errno));
+    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST];
+    file_digest(row->photo, photo_digest); /* of what is fitted */
+    file_digest(row->mask, mask_digest);
     CliFitJob job = b->job;
     job.photo = row->photo;
     job.mask = row->mask;
@@ -242,7 +298,7 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
         }
     }
     /* done.json last, then the whole folder renamed into place */
-    if (write_done(tmp, row, out, &err) != SQ_OK || cli_remove_tree(final) != 0 || rename(tmp, final) != 0) {
+    if (write_done(tmp, b, row, out, photo_digest, mask_digest, &err) != SQ_OK || cli_remove_tree(final) != 0 || rename(tmp, final) != 0) {
         out->status = BATCH_ERROR;
         out->fitted = -1;
         snprintf(out->error, sizeof out->error, "cannot complete %.900s: %.100s", final,

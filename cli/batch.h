@@ -50,8 +50,12 @@ typedef struct Batch {
 void batch_fit_row(const Batch *b, int i, BatchResult *out);
 
 /* A row's DIR/<id>/done.json, read back. */
+enum { BATCH_DIGEST = 17 }; /* 16 hex digits and the terminator */
 typedef struct BatchDone {
     char id[CLI_ID_MAX + 1], photo[4096], mask[4096], species[256];
+    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST]; /* "": not recorded */
+    char settings[256];        /* the fit's settings (batch_settings) */
+    int has_settings;          /* 0: an older done.json without them */
     int line, expected;        /* expected: an SqPatternType or -1 */
     BatchResult r;             /* row unset, resumed set */
 } BatchDone;
@@ -62,9 +66,13 @@ int batch_parse_done(const char *text, size_t len, BatchDone *d);
 /* DIR/done.json of a row's folder dir read and parsed: 1, or 0 when missing or broken. */
 int batch_load_done(const char *dir, BatchDone *d);
 
+/* The fit settings a row's result depends on, as one line (kept in done.json). */
+void batch_settings(const CliFitJob *job, char *out, size_t n);
+
 /* Reads DIR/<id>/done.json of row i: 1 when it holds a fit of the same photo and mask
+ * (by their contents; by their paths when it recorded no digest) with the same settings
  * (*out filled, resumed set), or with errors_too a failure of them; 0 otherwise (missing,
- * broken, other inputs). */
+ * broken, other inputs or settings). */
 int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out);
 
 /* The progress line of a finished row (a JSON line with --json); the caller holds the
