@@ -15,12 +15,6 @@ static const float A_RANGE = 80.0f; /* a*, b* histogram span: [-80, 80] */
  * detail is the scales' texture, noise and compression, which no candidate models. */
 static const double F_LO = 0.25, F_HI = 8.0;
 
-const char *sq_fit_objective_name(int i)
-{
-    static const char *const names[SQ_OBJ_COUNT] = {"palette", "histogram", "shape", "along", "across"};
-    return i >= 0 && i < SQ_OBJ_COUNT ? names[i] : "?";
-}
-
 static inline void hist_add(float *hist, const float lab[3])
 {
     int i = (int)(lab[0] * (NB / 100.0f));

@@ -1,6 +1,10 @@
-/* cli/manifest.c: squama batch's manifest, columns by header name, rows checked. */
+/* cli/manifest.c: squama batch's manifest, columns by header name, rows checked; and
+ * cli/batch_done.c, a finished row's done.json read back. */
+#include <math.h>
+
 #include "sq_test.h"
 
+#include "batch.h"
 #include "manifest.h"
 #include "squama/io.h"
 #include "squama/params.h"
@@ -119,6 +123,75 @@ static void ids_and_categories(void **state)
     assert_int_equal(cli_manifest_category(""), -1);
 }
 
+static int parse_done(const char *text, BatchDone *d)
+{
+    return batch_parse_done(text, strlen(text), d);
+}
+
+static void done_records_read_back(void **state)
+{
+    (void)state;
+    BatchDone *d = malloc(sizeof *d);
+    assert_non_null(d);
+    char path[1024], *text;
+    size_t n;
+    text = read_exact(src_path(path, sizeof path, "tests/fuzz/regressions/done/ok.json"), &n);
+    assert_non_null(text);
+    assert_int_equal(batch_parse_done(text, n, d), 1);
+    free(text);
+    assert_string_equal(d->id, "bands");
+    assert_int_equal(d->line, 2);
+    assert_string_equal(d->photo_digest, "0f3a9c1d2e4b5a67");
+    assert_string_equal(d->mask_digest, "89abcdef01234567");
+    assert_true(d->has_settings);
+    assert_string_equal(d->settings, "budget=0 evals=1500 seed=1 categories=0 size=256 work-size=1024");
+    assert_int_equal(d->r.status, BATCH_OK);
+    assert_int_equal(d->r.fitted, SQ_PATTERN_TRANSVERSAL);
+    assert_int_equal(d->expected, SQ_PATTERN_TRANSVERSAL);
+    assert_int_equal(d->r.evals, 1480);
+    assert_true(d->r.resumed);
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        assert_true(isfinite(d->r.obj[k]));
+    assert_true(fabs(d->r.obj[1] - 0.31) < 1e-12);
+    /* an older record: no digests, no settings (matched by path) */
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"gone\",\"photo\":\"p.jpg\","
+                                "\"status\":\"error\",\"error\":\"cannot open\"}", d), 1);
+    assert_int_equal(d->r.status, BATCH_ERROR);
+    assert_string_equal(d->r.error, "cannot open");
+    assert_string_equal(d->photo_digest, "");
+    assert_false(d->has_settings);
+    /* a digest of the wrong length is no digest; an unknown category or status, another
+     * format, a missing id or photo: not a record */
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"a\",\"photo\":\"p\","
+                                "\"photo_digest\":\"123\",\"status\":\"error\"}", d), 1);
+    assert_string_equal(d->photo_digest, "");
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"a\",\"photo\":\"p\","
+                                "\"status\":\"ok\",\"category\":\"zigzag\",\"objectives\":{}}", d), 0);
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"a\",\"photo\":\"p\","
+                                "\"status\":\"running\"}", d), 0);
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/2\",\"id\":\"a\",\"photo\":\"p\","
+                                "\"status\":\"error\"}", d), 0);
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"photo\":\"p\",\"status\":\"error\"}", d), 0);
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"a\"", d), 0);
+    assert_int_equal(parse_done("{\"format\":\"squama-batch-row/1\",\"id\":\"../x\",\"photo\":\"p\","
+                                "\"status\":\"error\"}", d), 0);
+    free(d);
+}
+
+static void replay_done(const char *path, void *ctx)
+{
+    (void)ctx;
+    size_t n;
+    char *data = read_exact(path, &n);
+    assert_non_null(data);
+    BatchDone *d = malloc(sizeof *d);
+    assert_non_null(d);
+    if (batch_parse_done(data, n, d))
+        assert_true(d->id[0] && (d->r.status != BATCH_OK || d->r.fitted >= 0));
+    free(d);
+    free(data);
+}
+
 static void replay(const char *path, void *ctx)
 {
     (void)ctx;
@@ -141,7 +214,8 @@ static void fuzz_regressions(void **state)
 {
     (void)state;
     char dir[1024];
-    if (for_each_file(src_path(dir, sizeof dir, "tests/fuzz/regressions/manifest"), "", 0, replay, NULL) < 0)
+    if (for_each_file(src_path(dir, sizeof dir, "tests/fuzz/regressions/manifest"), "", 0, replay, NULL) < 0 ||
+        for_each_file(src_path(dir, sizeof dir, "tests/fuzz/regressions/done"), "", 0, replay_done, NULL) < 0)
         skip();
 }
 
@@ -152,6 +226,7 @@ int main(void)
         cmocka_unit_test(bad_rows_carry_their_error),
         cmocka_unit_test(malformed_manifests),
         cmocka_unit_test(ids_and_categories),
+        cmocka_unit_test(done_records_read_back),
         cmocka_unit_test(fuzz_regressions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
