@@ -133,6 +133,21 @@ PY
   run batch "$TMP/m.csv" -o "$TMP/b" --evals 120 --size 64 --work-size 256 --categories transversal,longitudinal --json
   check "other settings fit every row again" 0 out '"resumed":0' out '"fitted_now":5'
   grep -Eq '"settings": ?"budget=0 evals=120 ' "$TMP/b/stripes/done.json" || fail "done.json lacks the settings"
+
+  # a real crash: the batch killed (SIGKILL) once its first row is done; that row is read
+  # back, the one it was fitting is fitted again, nothing half-written is listed
+  printf 'id,photo\nk1,photos/bands.jpg\nk2,photos/stripes.jpg\nk3,photos/bands.jpg\n' >"$TMP/k.csv"
+  "$SQ" batch "$TMP/k.csv" -o "$TMP/k" "${FIT[@]}" -q --jobs 1 -j 1 &
+  pid=$!
+  for _ in $(seq 600); do [ -e "$TMP/k/k1/done.json" ] && break; sleep 0.1; done
+  kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+  [ -s "$TMP/k/k1/done.json" ] || fail "the first row was not done before the kill"
+  [ -e "$TMP/k/k3/done.json" ] && fail "all rows were done before the kill: nothing was interrupted"
+  run batch "$TMP/k.csv" -o "$TMP/k" "${FIT[@]}" --json --jobs 1 -j 1
+  check "batch after kill -9" 0 out '"rows":3' out '"ok":3'
+  grep '"id":"k1"' "$out" | grep -q '"resumed":true' || fail "k1 was fitted again after the kill"
+  [ "$(catalogue_ids "$TMP/k" ok)" = "k1 k2 k3" ] || fail "after the kill: $(catalogue_ids "$TMP/k" ok)"
+  ls -a "$TMP/k" | grep -q '^\.tmp-' && fail "a partial row was left after the rerun"
 fi
 
 if [ "$PART" = shard ]; then

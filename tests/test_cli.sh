@@ -270,6 +270,9 @@ for f in 00.json 01.json 02.json seeds.json; do
 done
 run seed --near "$SRC/presets/thesis/table_4_4_spots.json" -n 2 --distance 0.1 -o "$TMP/nested/sdn" --size 32 --json
 check "seed --near --json" 0 out '"mode": "near"'
+for f in 00.json 01.json seeds.json sheet.png; do
+  [ -s "$TMP/nested/sdn/$f" ] || { echo "FAIL: seed --near did not write $f"; fails=$((fails + 1)); }
+done
 if command -v python3 >/dev/null; then
   python3 - "$TMP/sd/seeds.json" "$out" "$TMP/nested/sdn/00.json" <<'PY' || { echo "FAIL: seeds.json content"; fails=$((fails + 1)); }
 import json, sys
