@@ -1,4 +1,5 @@
 /* Contact sheets (sheet.h). */
+#include <ctype.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -7,6 +8,32 @@
 
 /* The sheet's look: tiles `size` square, a label band beneath each, gaps between. */
 enum { SHEET_GAP = 8, SHEET_LABEL = 22 };
+
+/* A label too long for its tile loses its words of letters only, keeping the index and
+ * the figures: "00  nearest 1.49" becomes "00 1.49". */
+static void drop_words(char *label)
+{
+    char out[256];
+    size_t n = 0;
+    for (const char *p = label; *p;) {
+        while (*p == ' ')
+            p++;
+        const char *w = p;
+        int letters = 1;
+        for (; *p && *p != ' '; p++)
+            letters &= isalpha((unsigned char)*p) != 0;
+        const size_t len = (size_t)(p - w);
+        if (len && !letters && n + len + 1 < sizeof out) {
+            if (n)
+                out[n++] = ' ';
+            memcpy(out + n, w, len);
+            n += len;
+        }
+    }
+    out[n] = 0;
+    if (n)
+        memcpy(label, out, n + 1);
+}
 
 static void paste(SqImage *dst, const SqImage *src, int x0, int y0)
 {
@@ -46,6 +73,8 @@ SqStatus cli_sheet_write(const char *out, const SqParams *presets, const char *c
         char label[256];
         snprintf(label, sizeof label, "%s", labels[i]);
         const size_t fit = (size_t)(size / 7.5);
+        if (strlen(label) > fit)
+            drop_words(label);
         if (strlen(label) > fit && fit > 3)
             strcpy(label + fit - 3, "...");
         static const float ink[3] = {0.92f, 0.92f, 0.92f};

@@ -105,6 +105,29 @@ static void category_presets(void **state)
     }
 }
 
+/* Reaction-diffusion: two presets of the complex category, valid, plausible, loadable (on
+ * one thread, no thread comparison: each candidate is a simulation, 10 s in all). */
+static void complex_presets(void **state)
+{
+    (void)state;
+    SqSeedOptions o = small(2, 1);
+    SqSeedResult r;
+    SqError err;
+    assert_int_equal(sq_seed_category(SQ_PATTERN_COMPLEX, &o, &r, &err), SQ_OK);
+    printf("  complex drawn %d, implausible %d, pool %d\n", r.drawn, r.implausible, r.npool);
+    assert_int_equal(r.n, 2);
+    for (int i = 0; i < r.n; i++) {
+        const SqSeedCandidate *c = &r.picks[i];
+        assert_int_equal(c->params.Pattern_Type, SQ_PATTERN_COMPLEX);
+        assert_int_equal(sq_params_validate(&c->params, &err), SQ_OK);
+        assert_true(c->coverage >= 0.05 && c->coverage <= 0.8);
+        assert_true(c->contrast >= 20);
+        loads_back(&c->params);
+    }
+    assert_false(sq_params_equal(&r.picks[0].params, &r.picks[1].params));
+    sq_seed_result_free(&r);
+}
+
 /* The layered kind: one layer of stripes, bands or spots over another simple pattern, the
  * pairs mixed, the layer showing over its base as a pattern over the skin; the same on 1
  * and 2 threads; presets that load back as they were. */
@@ -330,6 +353,7 @@ int main(void)
         cmocka_unit_test(seed_matters),           cmocka_unit_test(picks_are_diverse),
         cmocka_unit_test(near_variations),        cmocka_unit_test(from_fit),
         cmocka_unit_test(bad_options),            cmocka_unit_test(layered_presets),
+        cmocka_unit_test(complex_presets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
