@@ -61,7 +61,7 @@ static void file_digest(const char *path, char out[BATCH_DIGEST])
     if (!fp)
         return;
     uint64_t h = 0xcbf29ce484222325u;
-    unsigned char buf[1 << 16];
+    unsigned char buf[8192]; /* small: rows are fitted on threads with default stacks */
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, fp)) > 0)
         for (size_t i = 0; i < n; i++)
@@ -138,7 +138,7 @@ int batch_load_done(const char *dir, BatchDone *d)
     return ok;
 }
 
-int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out)
+int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out)
 {
     const CliManifestRow *row = &b->rows[i];
     char dir[4096];
@@ -146,13 +146,13 @@ int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out)
     BatchDone *d = malloc(sizeof *d);
     if (!d)
         return 0;
-    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 && (d->r.status == BATCH_OK || errors_too);
-    if (ok && d->photo_digest[0]) { /* the same contents, wherever they are now */
+    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 && (d->r.status == BATCH_OK || other_shard);
+    if (ok && !other_shard && d->photo_digest[0]) { /* the same contents, wherever they are now */
         char pd[BATCH_DIGEST], md[BATCH_DIGEST];
         file_digest(row->photo, pd);
         file_digest(row->mask, md);
-        ok = strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !md[0];
-    } else if (ok) { /* a row that failed to read its photo, or an older done.json: by path */
+        ok = strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !d->mask[0];
+    } else if (ok && !other_shard) { /* a row that failed to read its photo, or an older record */
         ok = strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
              strcmp(d->mask, row->mask ? row->mask : "") == 0;
     }

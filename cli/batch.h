@@ -71,9 +71,10 @@ void batch_settings(const CliFitJob *job, char *out, size_t n);
 
 /* Reads DIR/<id>/done.json of row i: 1 when it holds a fit of the same photo and mask
  * (by their contents; by their paths when it recorded no digest) with the same settings
- * (*out filled, resumed set), or with errors_too a failure of them; 0 otherwise (missing,
- * broken, other inputs or settings). */
-int batch_read_done(const Batch *b, int i, int errors_too, BatchResult *out);
+ * (*out filled, resumed set); 0 otherwise (missing, broken, other inputs or settings, a
+ * failure). A row of another shard is listed as that shard left it, failures too: matched
+ * by id and settings, its inputs not read. */
+int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out);
 
 /* The progress line of a finished row (a JSON line with --json); the caller holds the
  * lock or is alone. */

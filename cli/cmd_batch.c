@@ -46,7 +46,7 @@ static const char help[] =
     "fitted: those without a done.json, those that failed, those whose photo or mask changed\n"
     "(by content: moving them, or spelling the manifest's path otherwise, changes nothing) and\n"
     "those fitted with other settings (--budget, --evals, --seed, --categories, --size,\n"
-    "--work-size).\n"
+    "--work-size). A done.json from before squama recorded these is matched by the paths.\n"
     "\n"
     "Parallel work:\n"
     "  on one machine, each fit uses every core (OpenMP); --jobs J fits J rows at once with\n"
