@@ -138,29 +138,31 @@ int batch_load_done(const char *dir, BatchDone *d)
     return ok;
 }
 
+/* A record of row's photo and mask: by their contents, wherever they are now; by their
+ * paths when it has no digest (the photo could not be read, or an older record). */
+static int same_inputs(const BatchDone *d, const CliManifestRow *row)
+{
+    if (!d->photo_digest[0])
+        return strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
+               strcmp(d->mask, row->mask ? row->mask : "") == 0;
+    char pd[BATCH_DIGEST], md[BATCH_DIGEST];
+    file_digest(row->photo, pd);
+    file_digest(row->mask, md);
+    return strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !d->mask[0];
+}
+
 int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out)
 {
     const CliManifestRow *row = &b->rows[i];
-    char dir[4096];
+    char dir[4096], settings[sizeof ((BatchDone *)0)->settings];
     snprintf(dir, sizeof dir, "%s/%s", b->outdir, row->id);
+    batch_settings(&b->job, settings, sizeof settings);
     BatchDone *d = malloc(sizeof *d);
     if (!d)
         return 0;
-    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 && (d->r.status == BATCH_OK || other_shard);
-    if (ok && !other_shard && d->photo_digest[0]) { /* the same contents, wherever they are now */
-        char pd[BATCH_DIGEST], md[BATCH_DIGEST];
-        file_digest(row->photo, pd);
-        file_digest(row->mask, md);
-        ok = strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !d->mask[0];
-    } else if (ok && !other_shard) { /* a row that failed to read its photo, or an older record */
-        ok = strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
-             strcmp(d->mask, row->mask ? row->mask : "") == 0;
-    }
-    if (ok && d->has_settings) { /* fitted with other settings: fitted again */
-        char settings[sizeof d->settings];
-        batch_settings(&b->job, settings, sizeof settings);
-        ok = strcmp(d->settings, settings) == 0;
-    }
+    int ok = batch_load_done(dir, d) && strcmp(d->id, row->id) == 0 &&
+             (d->r.status == BATCH_OK || other_shard) && (other_shard || same_inputs(d, row)) &&
+             (!d->has_settings || strcmp(d->settings, settings) == 0); /* other settings: fitted again */
     if (ok) {
         *out = d->r;
         out->row = i;
