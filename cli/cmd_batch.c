@@ -58,7 +58,8 @@ static const char help[] =
     "  I and N come from SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN and SLURM_ARRAY_TASK_COUNT.\n"
     "  The shards may share DIR; 'squama batch --merge DIR -o DIR' (or the plain command again)\n"
     "  then makes the whole catalogue. Shards in separate folders are joined with\n"
-    "  'squama batch --merge DIR1 DIR2 ... -o OUT' (OUT/<id> become links to the rows).\n"
+    "  'squama batch --merge DIR1 DIR2 ... -o OUT' (OUT/<id> become links to the rows); it\n"
+    "  warns when the rows were fitted with different settings (budget, seed, kinds...).\n"
     "\n"
     "options:\n"
     "  -o, --output DIR     where everything goes (required)\n"
@@ -189,6 +190,34 @@ static void summary(const Batch *b, double seconds, int resumed)
     printf("catalogue: %s/catalogue.csv, %s/index.html\n", b->outdir, b->outdir);
 }
 
+/* Warns when the merged rows were fitted with different settings (budget, seed, kinds...):
+ * the catalogue then compares fits that are not alike. Each setting is listed with its
+ * number of rows and one of them; rows from before settings were recorded count apart. */
+static void warn_mixed_settings(const BatchDone *done, int n)
+{
+    int *first = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)), *count = calloc((size_t)(n > 0 ? n : 1), sizeof(int));
+    int kinds = 0;
+    for (int i = 0; first && count && i < n; i++) {
+        int k = 0;
+        while (k < kinds && (done[first[k]].has_settings != done[i].has_settings ||
+                             strcmp(done[first[k]].settings, done[i].settings) != 0))
+            k++;
+        if (k == kinds)
+            first[kinds++] = i;
+        count[k]++;
+    }
+    if (kinds > 1) {
+        fprintf(stderr, "squama: these rows were fitted with different settings, and the catalogue mixes them:\n");
+        for (int k = 0; k < kinds; k++) {
+            const BatchDone *d = &done[first[k]];
+            fprintf(stderr, "  %d row%s (%s, ...): %s\n", count[k], count[k] == 1 ? "" : "s", d->id,
+                    d->has_settings ? d->settings : "not recorded (an older batch)");
+        }
+    }
+    free(first);
+    free(count);
+}
+
 /* squama batch --merge DIR... -o OUT */
 static int merge(char **dirs, int ndirs, Batch *b)
 {
@@ -274,6 +303,8 @@ static int merge(char **dirs, int ndirs, Batch *b)
                 done[j] = done[j - 1];
                 done[j - 1] = t;
             }
+        if (!b->quiet)
+            warn_mixed_settings(done, n);
         CliManifestRow *rows = calloc(n > 0 ? (size_t)n : 1, sizeof *rows);
         BatchResult *res = calloc(n > 0 ? (size_t)n : 1, sizeof *res);
         if (!rows || !res) {

@@ -165,6 +165,12 @@ if [ "$PART" = shard ]; then
   [ "$(catalogue_ids "$TMP/merged" error)" = "gone" ] || fail "merged failures: $(catalogue_ids "$TMP/merged" error)"
   [ -L "$TMP/merged/bands" ] && [ -s "$TMP/merged/stripes/thumb_preview.png" ] || fail "merged rows are not linked"
   grep -q "bands/thumb_photo.png" "$TMP/merged/index.html" || fail "merged index.html lacks the thumbnails"
+  grep -q "different settings" "$err" && fail "shards with the same settings were said to differ"
+  # a shard fitted with another budget: merged, with a warning naming both settings
+  run batch "$TMP/m.csv" -o "$TMP/s1b" "${FIT[@]/100/120}" --shard 1/2 -q; check "shard 1/2 with --evals 120" 0
+  run batch --merge "$TMP/s0" "$TMP/s1b" -o "$TMP/mixed"
+  check "merge shards of different settings" 0 out "3 rows: 2 ok, 1 failed" err "fitted with different settings" \
+    err "2 rows (bands, ...): budget=0 evals=100" err "1 row (stripes, ...): budget=0 evals=120"
   # shards sharing one folder: each lists the other's rows, failures included
   cp -r "$TMP/s1/stripes" "$TMP/s0/"
   run batch "$TMP/m.csv" -o "$TMP/s0" "${FIT[@]}" --shard 1/2; check "a shard in a shared folder" 0 err "1 done before, 0 to fit"
