@@ -190,32 +190,33 @@ static void summary(const Batch *b, double seconds, int resumed)
     printf("catalogue: %s/catalogue.csv, %s/index.html\n", b->outdir, b->outdir);
 }
 
+static int same_settings(const BatchDone *a, const BatchDone *b)
+{
+    return a->has_settings == b->has_settings && strcmp(a->settings, b->settings) == 0;
+}
+
 /* Warns when the merged rows were fitted with different settings (budget, seed, kinds...):
  * the catalogue then compares fits that are not alike. Each setting is listed with its
- * number of rows and one of them; rows from before settings were recorded count apart. */
+ * number of rows and the first of them; rows from before settings were recorded count apart. */
 static void warn_mixed_settings(const BatchDone *done, int n)
 {
-    int *first = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)), *count = calloc((size_t)(n > 0 ? n : 1), sizeof(int));
-    int kinds = 0;
-    for (int i = 0; first && count && i < n; i++) {
-        int k = 0;
-        while (k < kinds && (done[first[k]].has_settings != done[i].has_settings ||
-                             strcmp(done[first[k]].settings, done[i].settings) != 0))
-            k++;
-        if (k == kinds)
-            first[kinds++] = i;
-        count[k]++;
+    int mixed = 0;
+    for (int i = 1; i < n && !mixed; i++)
+        mixed = !same_settings(&done[0], &done[i]);
+    if (!mixed)
+        return;
+    fprintf(stderr, "squama: these rows were fitted with different settings, and the catalogue mixes them:\n");
+    for (int i = 0; i < n; i++) {
+        int seen = 0, count = 0;
+        for (int j = 0; j < i && !seen; j++)
+            seen = same_settings(&done[j], &done[i]);
+        if (seen)
+            continue;
+        for (int j = i; j < n; j++)
+            count += same_settings(&done[j], &done[i]);
+        fprintf(stderr, "  %d row%s (%s, ...): %s\n", count, count == 1 ? "" : "s", done[i].id,
+                done[i].has_settings ? done[i].settings : "not recorded (an older batch)");
     }
-    if (kinds > 1) {
-        fprintf(stderr, "squama: these rows were fitted with different settings, and the catalogue mixes them:\n");
-        for (int k = 0; k < kinds; k++) {
-            const BatchDone *d = &done[first[k]];
-            fprintf(stderr, "  %d row%s (%s, ...): %s\n", count[k], count[k] == 1 ? "" : "s", d->id,
-                    d->has_settings ? d->settings : "not recorded (an older batch)");
-        }
-    }
-    free(first);
-    free(count);
 }
 
 /* squama batch --merge DIR... -o OUT */
