@@ -21,9 +21,10 @@
 static const char help[] =
     "usage: squama fit PHOTO -o DIR [--mask MASK] [--budget 60s] [--seed N] [options]\n"
     "\n"
-    "Fits the generator to the snake in PHOTO: screens every pattern category, evolves the\n"
-    "promising ones (CMA-ES and GP, Pareto-ranked on the five objectives of 'squama score'),\n"
-    "re-scores the finalists over several seeds and polishes the champion with nlopt.\n"
+    "Fits the generator to the snake in PHOTO: screens every pattern category (automata\n"
+    "read off the photo's strip among them), evolves the promising ones (CMA-ES and GP,\n"
+    "Pareto-ranked on the five objectives of 'squama score'), re-scores the finalists over\n"
+    "several seeds and polishes the champion with nlopt.\n"
     "\n"
     "DIR receives:\n"
     "  best.json        the best preset (the front's lowest score: each objective divided by\n"

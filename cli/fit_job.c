@@ -249,6 +249,12 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     if (r->twin_score > 0)
         cJSON_AddItemToObject(root, "plain_twin_score", sq__json_exact_number(r->twin_score));
+    if (r->automata_read > 0) {
+        cJSON *ar = cJSON_AddObjectToObject(root, "automata_read");
+        cJSON_AddNumberToObject(ar, "count", r->automata_read);
+        cJSON_AddItemToObject(ar, "view_scale", sq__json_exact_number(r->read_view_scale));
+        cJSON_AddItemToObject(ar, "correlation", sq__json_exact_number(r->read_corr));
+    }
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));
@@ -432,6 +438,8 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         fo.progress = progress;
         fo.ctx = &x;
         fo.stop = job->stop;
+        fo.strip = &prep.strip;
+        fo.valid = &prep.valid;
         st = sq_fit_run(&target, &fo, &res, err);
         if (x.tty && !x.quiet && !x.json)
             fputs("\n", stderr);

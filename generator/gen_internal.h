@@ -217,9 +217,6 @@ double sq__stripe_coverage(int x, int w, int n, double stripes_width, double pin
 /* Spots per row and rows of spots for a w x h texture. */
 void sq__spots_grid(const SqParams *p, int w, int h, int *nx, int *ny);
 
-/* The CA image coverage (before blur): w x h, circles of the 1 cells. */
-SqStatus sq__ca_coverage(const SqParams *p, float *cov, int w, int h, SqError *err);
-
 /* Post-process (§4.2.4): rotate 90 degrees, blur, contrast, applied to every layer. */
 SqStatus sq__pattern_postprocess(const SqParams *p, SqPattern *pat, SqError *err);
 

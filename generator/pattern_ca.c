@@ -37,17 +37,18 @@ void sq_ca_evolve(const SqCa *ca, uint8_t *rows)
     }
 }
 
-SqStatus sq__ca_coverage(const SqParams *p, float *cov, int w, int h, SqError *err)
+SqStatus sq_ca_coverage(const SqCa *ca, double diameter, float *cov, int w, int h, SqError *err)
 {
-    const SqCa *ca = &p->CA_Descriptor;
+    if (!ca || !cov || w <= 0 || h <= 0 || ca->ncells < 1 || ca->epochs < 1)
+        return sq_error_set(err, SQ_ERR_INVALID, "CA_Descriptor", "no automaton or no image to paint");
     const int n = ca->ncells, e = ca->epochs, rows = 2 * e;
     uint8_t *data = malloc((size_t)n * e);
     if (!data)
         return sq_error_set(err, SQ_ERR_NOMEM, "CA_Descriptor", "out of memory for the automaton");
     sq_ca_evolve(ca, data);
 
-    const float d = (float)p->CA_CircleDiameter, rad = d / 2;
-    const float mirror_shift = (float)(ca->shift_mirror * p->CA_CircleDiameter / 3.0); /* cells */
+    const float d = (float)diameter, rad = d / 2;
+    const float mirror_shift = (float)(ca->shift_mirror * diameter / 3.0); /* cells */
     const float sx = (float)n / (float)w, sy = (float)rows / (float)h; /* cells per pixel */
     const float aa = sx > sy ? sx : sy;                                 /* edge softness, cells */
     const float reach = rad + aa;                                       /* beyond it: nothing */
@@ -103,5 +104,5 @@ SqStatus sq__pattern_ca(const SqParams *p, SqPattern *pat, SqError *err)
     in->levels[0] = (float)p->CustomPattern_LevelInLow;
     in->levels[1] = (float)p->CustomPattern_LevelInHigh;
     in->levels[2] = (float)p->CustomPattern_LevelInMid;
-    return sq__ca_coverage(p, in->cov, pat->w, pat->h, err);
+    return sq_ca_coverage(&p->CA_Descriptor, p->CA_CircleDiameter, in->cov, pat->w, pat->h, err);
 }

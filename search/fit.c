@@ -389,6 +389,74 @@ static int ncategories(const SqFitOptions *o)
     return n;
 }
 
+/* Screening candidates from automata read off the photo's strip: two a reading, at its
+ * view scale, diameter, blur and contrast; the first coloured by the reading's polarity
+ * (the pattern lighter or darker than the skin's dominant colour), the second as any
+ * screening candidate is. Returns how many were made (at most 2 * READINGS). */
+enum { READINGS = 4 };
+static int read_candidates(Fit *f, SqFitCandidate *c)
+{
+    if (!f->o.strip || !fitted(&f->o, SQ_PATTERN_OTHER_SIMPLE))
+        return 0;
+    SqCaReading rd[READINGS];
+    const int nr = sq_fit_read_automata(f->o.strip, f->o.valid, f->o.band_centre, f->o.seed, rd, READINGS);
+    SqGenome g;
+    if (nr == 0 || sq_genome_init_layered(&g, SQ_PATTERN_OTHER_SIMPLE, -1, NULL) != SQ_OK)
+        return 0;
+    sq__genome_narrow(&g);
+    f->r->automata_read = nr;
+    f->r->read_view_scale = rd[0].view_scale;
+    f->r->read_corr = rd[0].corr;
+    int k = 0;
+    for (int i = 0; i < nr; i++)
+        for (int v = 0; v < 2; v++) {
+            SqFitCandidate *x = &c[k++];
+            random_candidate(f, &g, x);
+            SqParams *p = &x->params;
+            p->CA_Descriptor = rd[i].ca;
+            p->CA_CircleDiameter = rd[i].diameter;
+            p->Pattern_BlurAmount = rd[i].blur;
+            p->Pattern_Contrast = rd[i].contrast;
+            p->Pattern_RotatePattern90Degrees = 0;
+            p->Pattern_Warp_Small = p->Pattern_Warp_Large = 0;
+            p->CustomPattern_LevelInLow = 0;
+            p->CustomPattern_LevelInHigh = 1;
+            p->CustomPattern_LevelInMid = 0.5;
+            x->view_scale = rd[i].view_scale;
+            if (v == 0 && f->npal > 1) { /* the skin the dominant colour, the pattern the
+                                          * palette's farthest the reading's way */
+                float lab[3];
+                sq_fit_srgb_to_lab(f->pal[0], lab);
+                const double l0 = lab[0];
+                int in = -1;
+                double far = 0;
+                for (int q = 1; q < f->npal; q++) {
+                    sq_fit_srgb_to_lab(f->pal[q], lab);
+                    const double d = (lab[0] - l0) * (rd[i].corr > 0 ? 1 : -1);
+                    if (d > far) {
+                        far = d;
+                        in = q;
+                    }
+                }
+                int bg = 0;
+                if (in < 0) { /* none that way: the dominant colour is the pattern's */
+                    in = 0;
+                    for (int q = 1; q < f->npal; q++) {
+                        sq_fit_srgb_to_lab(f->pal[q], lab);
+                        const double d = (l0 - lab[0]) * (rd[i].corr > 0 ? 1 : -1);
+                        if (d > far) {
+                            far = d;
+                            bg = q;
+                        }
+                    }
+                }
+                set_colour(f, p->Background_Color, bg);
+                set_colour(f, p->CustomPattern_Color_Inside, in);
+            }
+        }
+    return k;
+}
+
 /* Screens every category fitted; fills norm and category_score; leaves the candidates
  * sorted by score in *out. */
 static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
@@ -400,8 +468,8 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
     }
     int n = per * ncat + f->o.nseeds;
-    SqFitCandidate *c = calloc((size_t)n, sizeof *c);
-    double *col = malloc(sizeof(double) * (size_t)n);
+    SqFitCandidate *c = calloc((size_t)n + 2 * READINGS, sizeof *c);
+    double *col = malloc(sizeof(double) * ((size_t)n + 2 * READINGS));
     if (!c || !col) {
         free(c);
         free(col);
@@ -431,6 +499,10 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     }
     for (int i = 0; i < f->o.nseeds; i++)
         c[k++] = f->o.seeds[i];
+    /* the automata read off the photo: scored at the view scale read with them */
+    const int nread = read_candidates(f, c + k), rounds_n = n;
+    evaluate_all(f, c + k, nread, f->o.coarse_size, 0);
+    n += nread;
     /* Scored round by round: the starting candidates and 4 of every kind, then 2 more of
      * every kind at a time. With a time budget screening stops after the round that reaches
      * 30% of it, every kind having had as many; the candidates left are dropped. */
@@ -447,7 +519,7 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     while (rounds_done < per) {
         int upto = rounds_done == 0 ? (per < 4 ? per : 4) : rounds_done + 2, m = 0;
         upto = upto < per ? upto : per;
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < rounds_n; i++) {
             int r = i < per * ncat ? i % per : -1; /* a starting candidate: the first round */
             if ((r < 0 && rounds_done == 0) || (r >= rounds_done && r < upto)) {
                 in_round[m] = i;

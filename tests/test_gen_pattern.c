@@ -326,7 +326,7 @@ static void ca_image_mirrors_and_shifts(void **state)
     assert_int_equal(sq_ca_parse(text, strlen(text), "t", &p.CA_Descriptor, &err), SQ_OK);
     const int w = 80, h = 80; /* 4 x 4 cells of 20 px */
     float *cov = calloc((size_t)w * h, sizeof(float));
-    assert_int_equal(sq__ca_coverage(&p, cov, w, h, &err), SQ_OK);
+    assert_int_equal(sq_ca_coverage(&p.CA_Descriptor, p.CA_CircleDiameter, cov, w, h, &err), SQ_OK);
     /* display rows: 0 = mirror of row 1 (empty), 1 = mirror of row 0, 2 = row 0, 3 = row 1 */
     assert_true(cov[(1 * 20 + 10) * w + 10] > 0.99f); /* mirror of row 0, cell 0 */
     assert_true(cov[(2 * 20 + 10) * w + 10] > 0.99f); /* row 0, cell 0 */
@@ -335,7 +335,7 @@ static void ca_image_mirrors_and_shifts(void **state)
     assert_true(cov[(2 * 20 + 10) * w + 30] < 0.01f);
     /* shift mirror 3 moves the mirrored copy by one circle diameter: cell 1 */
     p.CA_Descriptor.shift_mirror = 3;
-    assert_int_equal(sq__ca_coverage(&p, cov, w, h, &err), SQ_OK);
+    assert_int_equal(sq_ca_coverage(&p.CA_Descriptor, p.CA_CircleDiameter, cov, w, h, &err), SQ_OK);
     assert_true(cov[(1 * 20 + 10) * w + 30] > 0.99f);
     assert_true(cov[(1 * 20 + 10) * w + 10] < 0.01f);
     assert_true(cov[(2 * 20 + 10) * w + 10] > 0.99f); /* the original stays */

@@ -2,8 +2,14 @@
 #include <math.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "../search/search_internal.h" /* the random draws */
 #include "sq_test.h"
+#include "squama/generator.h"
+#include "squama/preset.h"
 #include "squama/search.h"
 
 static const int categories[] = {SQ_PATTERN_NONE, SQ_PATTERN_LONGITUDINAL, SQ_PATTERN_TRANSVERSAL,
@@ -333,6 +339,66 @@ static void draws_are_plausible(void **state)
     assert_int_equal(scale_default, 0);                       /* the pattern's own genes: always drawn */
 }
 
+/* The thesis' automaton (figure 4.9) seen in a strip at view scale 0.6 is read back: the
+ * strip's period gives the view scale, the automata read correlate with the strip, are
+ * valid, come best first, and do not depend on the thread count; a strip that does not
+ * repeat gives none. */
+static void automata_read_off_their_strip(void **state)
+{
+    (void)state;
+    SqParams p;
+    SqError err;
+    char path[1024];
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/figure_4_9_other_simple.json"), &p,
+                                    NULL, &err),
+                     SQ_OK);
+    SqGenOptions go = sq_gen_options_default(256);
+    SqTextures maps = {0};
+    assert_int_equal(sq_gen_render_into(&p, &go, &maps, &err), SQ_OK);
+    const double view = 0.6;
+    SqImage strip;
+    assert_int_equal(sq_fit_candidate_strip(&maps.basecolor, NULL, NULL, NULL, view, 0.5, 700, &strip, &err),
+                     SQ_OK);
+    sq_gen_textures_free(&maps);
+
+    SqCaReading rd[4], again[4];
+    const int n = sq_fit_read_automata(&strip, NULL, 0.5, 7, rd, 4);
+    assert_true(n >= 1 && n <= 4);
+    assert_true(fabs(rd[0].view_scale / view - 1) < 0.02);
+    assert_true(fabs(rd[0].corr) > 0.85);
+    for (int i = 0; i < n; i++) {
+        assert_int_equal(sq_ca_validate(&rd[i].ca, "reading", &err), SQ_OK);
+        assert_true(rd[i].diameter > 0.05 && rd[i].diameter <= 4);
+        assert_true(rd[i].blur >= 0 && rd[i].blur <= 16 && rd[i].contrast >= 0 && rd[i].contrast < 1);
+        if (i > 0)
+            assert_true(fabs(rd[i].corr) <= fabs(rd[i - 1].corr));
+        for (int j = 0; j < i; j++)
+            assert_false(sq_ca_equal(&rd[i].ca, &rd[j].ca));
+    }
+#ifdef _OPENMP
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 2);
+#endif
+    assert_int_equal(sq_fit_read_automata(&strip, NULL, 0.5, 7, again, 4), n);
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    for (int i = 0; i < n; i++) {
+        assert_true(sq_ca_equal(&rd[i].ca, &again[i].ca));
+        assert_true(rd[i].corr == again[i].corr && rd[i].diameter == again[i].diameter);
+    }
+
+    /* a strip that does not repeat: a gradient along it */
+    for (int j = 0; j < strip.height; j++)
+        for (int i = 0; i < strip.width; i++)
+            for (int c = 0; c < 3; c++)
+                strip.px[((size_t)j * strip.width + i) * 3 + c] = (float)j / (float)strip.height;
+    assert_int_equal(sq_fit_read_automata(&strip, NULL, 0.5, 7, rd, 4), 0);
+    /* nothing to read from */
+    assert_int_equal(sq_fit_read_automata(NULL, NULL, 0.5, 7, rd, 4), 0);
+    sq_image_free(&strip);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -345,6 +411,7 @@ int main(void)
         cmocka_unit_test(gp_operators_keep_automata_valid),
         cmocka_unit_test(tournament_prefers_low_ranks),
         cmocka_unit_test(draws_are_plausible),
+        cmocka_unit_test(automata_read_off_their_strip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,6 +74,12 @@ void sq_gen_textures_free(SqTextures *t);
  * r < ca->epochs, each 0 or 1. rows must hold epochs * ncells bytes. */
 void sq_ca_evolve(const SqCa *ca, uint8_t *rows);
 
+/* The automaton's pattern over a w x h texture tile (thesis §4.2.4): the ncells cells
+ * across u, its epochs and their mirror image along v, a circle of `diameter` cell
+ * spacings painted for every 1 cell, as coverage in [0, 1] (soft over a pixel at the
+ * circles' edges) before the pattern's post-process (rotation, blur, contrast). */
+SqStatus sq_ca_coverage(const SqCa *ca, double diameter, float *cov, int w, int h, SqError *err);
+
 #ifdef __cplusplus
 }
 #endif

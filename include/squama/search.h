@@ -165,6 +165,30 @@ void sq_gp_ca_struct_mutate(uint64_t *rng, SqCa *ca);
  * place) and a's rule schedule cut at one point and completed by b's. */
 void sq_gp_ca_crossover(uint64_t *rng, const SqCa *a, const SqCa *b, SqCa *child);
 
+/* ---- automata read off a photo (ca_read.c) ---- */
+
+typedef struct SqCaReading {
+    SqCa ca;
+    double diameter, blur, contrast; /* CA_CircleDiameter, Pattern_BlurAmount, Pattern_Contrast */
+    double view_scale; /* the strip's period along the body, as a view scale */
+    double corr;       /* correlation of the pattern with the folded strip's lightness
+                        * (positive: the pattern is lighter than the skin) */
+} SqCaReading;
+
+/* Automata whose pattern matches a photo's strip (SQ_FIT_STRIP_W wide, sRGB; valid, its
+ * valid pixels, may be NULL), seen in the band centred on u = band_centre: the strip's
+ * lightness is folded at the periods along the body where it repeats best, and automata
+ * (random, then the best hill-climbed by the GP mutations, with their circle diameter,
+ * blur and contrast) are scored by the correlation of their pattern with the fold at the
+ * best phase along, either way along, and rotation or reversal of the initial row (the
+ * reading's row is turned the way it fitted), less the distance between the
+ * distributions of the pattern's coverage and of the fold's values stretched to [0, 1]
+ * (so that the pattern is as strong and covers as much as the photo's). Up to max
+ * readings, best first; returns how many (0: the strip does not repeat, or bad
+ * arguments). Deterministic for a seed, whatever the thread count. */
+int sq_fit_read_automata(const SqImage *strip, const SqImage *valid, double band_centre, uint64_t seed,
+                         SqCaReading *out, int max);
+
 /* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
  * the lowest rank wins, ties go to the larger crowding distance. */
 int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
@@ -257,6 +281,9 @@ typedef struct SqFitOptions {
     int polish;              /* 1: the nlopt polish (default) */
     SqFitMethod method;
     const SqFitCandidate *seeds; /* extra starting candidates (e.g. a checkpoint's front) */
+    const SqImage *strip, *valid; /* the photo's strip and its valid pixels (SqPrepared; may
+                                     be NULL): the screening's automata start from the
+                                     automata read off it (sq_fit_read_automata) */
     int nseeds;
     volatile int *stop;      /* becomes nonzero (e.g. on SIGINT): finish with what is there */
     void (*progress)(const SqFitProgress *p, void *ctx); /* after each generation */
@@ -292,6 +319,9 @@ typedef struct SqFitResult {
     int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
     double twin_score;       /* the plain twin's score when the pattern was invisible, else 0;
                                 more than 5% above the champion's, the pattern stays */
+    int automata_read;       /* automata read off the photo's strip for the screening (0: none:
+                                no strip given, or it does not repeat) */
+    double read_view_scale, read_corr; /* the best reading's view scale and correlation */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
