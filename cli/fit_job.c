@@ -249,9 +249,9 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     if (r->twin_score > 0)
         cJSON_AddItemToObject(root, "plain_twin_score", sq__json_exact_number(r->twin_score));
-    if (r->automata_read > 0) {
+    if (r->read_corr != 0) {
         cJSON *ar = cJSON_AddObjectToObject(root, "automata_read");
-        cJSON_AddNumberToObject(ar, "count", r->automata_read);
+        cJSON_AddNumberToObject(ar, "used", r->automata_read);
         cJSON_AddItemToObject(ar, "view_scale", sq__json_exact_number(r->read_view_scale));
         cJSON_AddItemToObject(ar, "correlation", sq__json_exact_number(r->read_corr));
     }

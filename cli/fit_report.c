@@ -156,11 +156,13 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     else
         cli_buf_put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
     cli_buf_put(&b, "<h2>Categories</h2>\n");
-    if (r->automata_read > 0)
-        cli_buf_put(&b, "<p>The photo's strip repeats along the body every %.0f strip rows (view scale %.2f): %d "
-                "automata were read off it for the screening, the best correlating %.2f with its lightness.</p>\n",
-            r->read_view_scale * SQ_FIT_STRIP_W / SQ_FIT_BAND_WIDTH, r->read_view_scale, r->automata_read,
-            fabs(r->read_corr));
+    if (r->read_corr != 0)
+        cli_buf_put(&b, "<p>The photo's strip repeats along the body every %.0f strip rows (view scale %.2f). "
+                "The automaton read off it best correlates %.2f with its lightness: %s.</p>\n",
+            r->read_view_scale * SQ_FIT_STRIP_W / SQ_FIT_BAND_WIDTH, r->read_view_scale, fabs(r->read_corr),
+            r->automata_read > 0 ? "the automata read started the screening"
+                                 : "below 0.8, too weak to start the screening (an automaton can imitate any "
+                                   "pattern that repeats)");
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))

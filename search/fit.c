@@ -392,21 +392,29 @@ static int ncategories(const SqFitOptions *o)
 /* Screening candidates from automata read off the photo's strip: two a reading, at its
  * view scale, diameter, blur and contrast; the first coloured by the reading's polarity
  * (the pattern lighter or darker than the skin's dominant colour), the second as any
- * screening candidate is. Returns how many were made (at most 2 * READINGS). */
+ * screening candidate is. They are used only when the best reading correlates READ_MIN
+ * or better with the strip: an automaton can imitate any pattern that repeats within a
+ * texture tile (reaction-diffusion and spots tile too), and a weak reading only helps it
+ * to. Returns how many candidates were made (at most 2 * READINGS). */
 enum { READINGS = 4 };
+static const double READ_MIN = 0.8;
 static int read_candidates(Fit *f, SqFitCandidate *c)
 {
     if (!f->o.strip || !fitted(&f->o, SQ_PATTERN_OTHER_SIMPLE))
         return 0;
     SqCaReading rd[READINGS];
     const int nr = sq_fit_read_automata(f->o.strip, f->o.valid, f->o.band_centre, f->o.seed, rd, READINGS);
+    if (nr == 0)
+        return 0;
+    f->r->read_view_scale = rd[0].view_scale;
+    f->r->read_corr = rd[0].corr;
     SqGenome g;
-    if (nr == 0 || sq_genome_init_layered(&g, SQ_PATTERN_OTHER_SIMPLE, -1, NULL) != SQ_OK)
+    if (fabs(rd[0].corr) < READ_MIN)
+        return 0;
+    if (sq_genome_init_layered(&g, SQ_PATTERN_OTHER_SIMPLE, -1, NULL) != SQ_OK)
         return 0;
     sq__genome_narrow(&g);
     f->r->automata_read = nr;
-    f->r->read_view_scale = rd[0].view_scale;
-    f->r->read_corr = rd[0].corr;
     int k = 0;
     for (int i = 0; i < nr; i++)
         for (int v = 0; v < 2; v++) {

@@ -319,9 +319,11 @@ typedef struct SqFitResult {
     int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
     double twin_score;       /* the plain twin's score when the pattern was invisible, else 0;
                                 more than 5% above the champion's, the pattern stays */
-    int automata_read;       /* automata read off the photo's strip for the screening (0: none:
-                                no strip given, or it does not repeat) */
-    double read_view_scale, read_corr; /* the best reading's view scale and correlation */
+    int automata_read;       /* automata read off the photo's strip that started the screening
+                                (0: none: no strip given, it does not repeat, or the best
+                                reading correlates less than 0.8 with it) */
+    double read_view_scale, read_corr; /* the best reading's view scale and correlation (0:
+                                          nothing read) */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
