@@ -173,6 +173,28 @@ static int periods(const float *y, const float *w, int L, double *T)
     return n;
 }
 
+/* img (BW x R) summed over each of G groups of columns, row by row. */
+static void group_profiles(const float *img, float g[G][R])
+{
+    for (int r = 0; r < R; r++)
+        for (int gi = 0; gi < G; gi++) {
+            float sum = 0;
+            for (int x = gi * (BW / G); x < (gi + 1) * (BW / G); x++)
+                sum += img[r * BW + x];
+            g[gi][r] = sum;
+        }
+}
+
+/* Reverses the initial row of ca. */
+static void reverse_row(SqCa *ca)
+{
+    for (int i = 0, j = ca->ncells - 1; i < j; i++, j--) {
+        const uint8_t t = ca->cells[i];
+        ca->cells[i] = ca->cells[j];
+        ca->cells[j] = t;
+    }
+}
+
 /* Folds the lightness at period T into R rows; returns 0 when it has no contrast. */
 static int fold(const float *y, const float *w, int L, double T, Fold *f)
 {
@@ -211,13 +233,7 @@ static int fold(const float *y, const float *w, int L, double T, Fold *f)
     const float lo = v[BW * R / 50], hi = v[BW * R - 1 - BW * R / 50];
     for (int i = 0; i < BW * R; i++)
         v[i] = hi > lo ? (f->p[i] - lo) / (hi - lo) : 0.5f;
-    for (int r = 0; r < R; r++)
-        for (int gi = 0; gi < G; gi++) {
-            float sum = 0;
-            for (int x = gi * (BW / G); x < (gi + 1) * (BW / G); x++)
-                sum += f->p[r * BW + x];
-            f->g[gi][r] = sum;
-        }
+    group_profiles(f->p, f->g);
     cumulative(v, BW * R, 0, f->cdf[0]);
     cumulative(v, BW * R, 1, f->cdf[1]);
     return 1;
@@ -278,11 +294,7 @@ static void score(const Fold *f, double band_centre, Ind *a)
     const int n = ca.ncells;
     for (int rev = 0; rev < 2; rev++) {
         if (rev)
-            for (int i = 0; i < n / 2; i++) {
-                uint8_t t = ca.cells[i];
-                ca.cells[i] = ca.cells[n - 1 - i];
-                ca.cells[n - 1 - i] = t;
-            }
+            reverse_row(&ca);
         if (pattern(&ca, a, c) != 0)
             return;
         for (int k = 0; k < n; k++) {
@@ -312,13 +324,7 @@ static void score(const Fold *f, double band_centre, Ind *a)
             /* the phases along where the band's and the fold's profiles in G groups of
              * columns agree best (either way along), then the whole correlation there */
             float g[G][R];
-            for (int q = 0; q < R; q++)
-                for (int gi = 0; gi < G; gi++) {
-                    float sum = 0;
-                    for (int x = gi * (BW / G); x < (gi + 1) * (BW / G); x++)
-                        sum += band[q * BW + x];
-                    g[gi][q] = sum;
-                }
+            group_profiles(band, g);
             for (int dir = 0; dir < 2; dir++) {
                 float pc[R];
                 for (int d = 0; d < R; d++) {
@@ -361,8 +367,7 @@ static SqCa realised(const Ind *a)
     SqCa ca = a->ca;
     const int n = ca.ncells;
     if (a->rev)
-        for (int i = 0; i < n; i++)
-            ca.cells[i] = a->ca.cells[n - 1 - i];
+        reverse_row(&ca);
     uint8_t row[SQ_CA_MAX_CELLS];
     for (int i = 0; i < n; i++)
         row[(i + a->k) % n] = ca.cells[i];

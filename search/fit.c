@@ -432,32 +432,28 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
             p->CustomPattern_LevelInMid = 0.5;
             x->view_scale = rd[i].view_scale;
             if (v == 0 && f->npal > 1) { /* the skin the dominant colour, the pattern the
-                                          * palette's farthest the reading's way */
+                                          * palette's farthest the reading's way; none that
+                                          * way: the dominant colour is the pattern's, the
+                                          * skin the farthest the other way */
                 float lab[3];
                 sq_fit_srgb_to_lab(f->pal[0], lab);
-                const double l0 = lab[0];
-                int in = -1;
-                double far = 0;
+                const double l0 = lab[0], sign = rd[i].corr > 0 ? 1 : -1;
+                int in = 0, bg = 0;
+                double most = 0, least = 0;
                 for (int q = 1; q < f->npal; q++) {
                     sq_fit_srgb_to_lab(f->pal[q], lab);
-                    const double d = (lab[0] - l0) * (rd[i].corr > 0 ? 1 : -1);
-                    if (d > far) {
-                        far = d;
+                    const double d = (lab[0] - l0) * sign;
+                    if (d > most) {
+                        most = d;
                         in = q;
                     }
-                }
-                int bg = 0;
-                if (in < 0) { /* none that way: the dominant colour is the pattern's */
-                    in = 0;
-                    for (int q = 1; q < f->npal; q++) {
-                        sq_fit_srgb_to_lab(f->pal[q], lab);
-                        const double d = (l0 - lab[0]) * (rd[i].corr > 0 ? 1 : -1);
-                        if (d > far) {
-                            far = d;
-                            bg = q;
-                        }
+                    if (d < least) {
+                        least = d;
+                        bg = q;
                     }
                 }
+                if (in > 0)
+                    bg = 0;
                 set_colour(f, p->Background_Color, bg);
                 set_colour(f, p->CustomPattern_Color_Inside, in);
             }
