@@ -6,21 +6,14 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "bench_util.h"
 #include "squama/fitness.h"
 #include "squama/generator.h"
 #include "squama/preset.h"
 
 static double now_us(void)
 {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec * 1e6 + t.tv_nsec / 1e3;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
+    return now_ms() * 1e3;
 }
 
 int main(int argc, char **argv)
@@ -63,18 +56,14 @@ int main(int argc, char **argv)
         tf[r] = t3 - t2;
         to[r] = t4 - t3;
     }
-    qsort(tr, (size_t)RUNS, sizeof(double), cmp);
-    qsort(ts, (size_t)RUNS, sizeof(double), cmp);
-    qsort(tf, (size_t)RUNS, sizeof(double), cmp);
-    qsort(to, (size_t)RUNS, sizeof(double), cmp);
+    const double render = median(tr, RUNS), st = median(ts, RUNS), fe = median(tf, RUNS), ob = median(to, RUNS);
     printf("one candidate, 128^2 render on 1 thread, %dx%d strip (medians of %d)\n", SQ_FIT_STRIP_W, LEN, RUNS);
     printf("  render      %8.3f ms\n  strip       %8.1f us\n  features    %8.1f us\n  objectives  %8.1f us\n",
-           tr[RUNS / 2], ts[RUNS / 2], tf[RUNS / 2], to[RUNS / 2]);
-    printf("  beyond the render: %.1f us = %.1f%% of it\n", ts[RUNS / 2] + tf[RUNS / 2] + to[RUNS / 2],
-           100 * (ts[RUNS / 2] + tf[RUNS / 2] + to[RUNS / 2]) / (tr[RUNS / 2] * 1e3));
+           render, st, fe, ob);
+    printf("  beyond the render: %.1f us = %.1f%% of it\n", st + fe + ob, 100 * (st + fe + ob) / (render * 1e3));
     printf("RESULT fitness render_ms=%.3f strip_us=%.1f features_us=%.1f objectives_us=%.1f "
            "beyond_render_us=%.1f\n",
-           tr[RUNS / 2], ts[RUNS / 2], tf[RUNS / 2], to[RUNS / 2], ts[RUNS / 2] + tf[RUNS / 2] + to[RUNS / 2]);
+           render, st, fe, ob, st + fe + ob);
     sq_gen_textures_free(&t);
     return 0;
 }

@@ -18,21 +18,9 @@
 #include <omp.h>
 #endif
 
+#include "bench_util.h"
 #include "squama/generator.h"
 #include "squama/preset.h"
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 /* Median of `n` warm renders at `size` (after one cold one); the median run's stages. */
 static int median_ms(const SqParams *p, int size, int n, double *med, SqGenTimings *stages)

@@ -42,8 +42,9 @@ enum { HB = 32 };
 /* One fold of the strip: lightness at zero mean and unit norm. */
 typedef struct Fold {
     double T;
-    float p[BW * R];
-    float g[G][R];    /* p summed over each of G groups of columns, row by row */
+    float p[2][BW * R];   /* as folded, and turned end for end (read the other way along) */
+    float g[2][R * G];    /* p summed over each of G groups of columns: row by row, the
+                           * groups of a row together */
     float cdf[2][HB]; /* its values stretched to [0, 1]: their cumulative histogram, as
                        * they are (the pattern lighter) and flipped (darker) */
 } Fold;
@@ -60,15 +61,15 @@ typedef struct Ind {
  * the ends), of v or, flip, 1 - v. */
 static void cumulative(const float *v, int n, int flip, float *cdf)
 {
-    int h[HB] = {0};
+    int h[4][HB] = {{0}}; /* four counts, so that runs of one bin do not wait on each other */
     for (int i = 0; i < n; i++) {
         const float x = flip ? 1 - v[i] : v[i];
-        const int b = (int)floorf(x * HB);
-        h[b < 0 ? 0 : b >= HB ? HB - 1 : b]++;
+        const int b = x > 0 ? (int)(x * HB) : 0; /* floor, for x > 0 */
+        h[i & 3][b < HB ? b : HB - 1]++;
     }
     int c = 0;
     for (int b = 0; b < HB; b++)
-        cdf[b] = (float)(c += h[b]) / (float)n;
+        cdf[b] = (float)(c += h[0][b] + h[1][b] + h[2][b] + h[3][b]) / (float)n;
 }
 
 static double emd(const float *a, const float *b)
@@ -173,16 +174,32 @@ static int periods(const float *y, const float *w, int L, double *T)
     return n;
 }
 
-/* img (BW x R) summed over each of G groups of columns, row by row. */
-static void group_profiles(const float *img, float g[G][R])
+/* rows rows of img (BW wide) summed over each of G groups of columns: g[r * G + group]. */
+static void group_profiles(const float *img, int rows, float *g)
 {
-    for (int r = 0; r < R; r++)
+    for (int r = 0; r < rows; r++)
         for (int gi = 0; gi < G; gi++) {
             float sum = 0;
             for (int x = gi * (BW / G); x < (gi + 1) * (BW / G); x++)
                 sum += img[r * BW + x];
-            g[gi][r] = sum;
+            g[r * G + gi] = sum;
         }
+}
+
+/* The dot product of n floats, n a multiple of 16: the score's inner loop, in sixteen
+ * partial sums (four SIMD registers adding independently, not one waiting on the last). */
+static float dot(const float *a, const float *b, int n)
+{
+    float s[16] = {0};
+    for (int i = 0; i < n; i += 16) {
+#pragma GCC unroll 16
+        for (int j = 0; j < 16; j++)
+            s[j] += a[i + j] * b[i + j];
+    }
+    float sum = 0;
+    for (int j = 0; j < 16; j++)
+        sum += s[j];
+    return sum;
 }
 
 /* Reverses the initial row of ca. */
@@ -226,14 +243,15 @@ static int fold(const float *y, const float *w, int L, double T, Fold *f)
     f->T = T;
     for (int t = 0; t < R; t++)
         for (int x = 0; x < BW; x++)
-            f->p[t * BW + x] = (float)(acc[t * BW + x] * inv);
+            f->p[1][(R - 1 - t) * BW + x] = f->p[0][t * BW + x] = (float)(acc[t * BW + x] * inv);
     float v[BW * R];
-    memcpy(v, f->p, sizeof v);
+    memcpy(v, f->p[0], sizeof v);
     qsort(v, BW * R, sizeof *v, cmp_float);
     const float lo = v[BW * R / 50], hi = v[BW * R - 1 - BW * R / 50];
     for (int i = 0; i < BW * R; i++)
-        v[i] = hi > lo ? (f->p[i] - lo) / (hi - lo) : 0.5f;
-    group_profiles(f->p, f->g);
+        v[i] = hi > lo ? (f->p[0][i] - lo) / (hi - lo) : 0.5f;
+    for (int dir = 0; dir < 2; dir++)
+        group_profiles(f->p[dir], R, f->g[dir]);
     cumulative(v, BW * R, 0, f->cdf[0]);
     cumulative(v, BW * R, 1, f->cdf[1]);
     return 1;
@@ -262,6 +280,37 @@ static void blur_line(float *v, int n, int s, double sigma)
     }
 }
 
+/* blur_line on each of the TW columns of c (TW x R), all columns at once: the same sums
+ * in the same order, a row of them at a time. */
+static void blur_columns(float *c, double sigma)
+{
+    const int r = (int)lround((sqrt(4 * sigma * sigma + 1) - 1) / 2);
+    if (r < 1)
+        return;
+    const int rr = r < R ? r : R - 1;
+    float in[R * TW];
+    double acc[TW];
+    for (int pass = 0; pass < 3; pass++) {
+        memcpy(in, c, sizeof in);
+        for (int x = 0; x < TW; x++)
+            acc[x] = 0;
+        for (int i = -rr; i <= rr; i++) {
+            const float *row = in + (size_t)((i + R) % R) * TW;
+            for (int x = 0; x < TW; x++)
+                acc[x] += row[x];
+        }
+        for (int i = 0; i < R; i++) {
+            for (int x = 0; x < TW; x++)
+                c[i * TW + x] = (float)(acc[x] / (2 * rr + 1));
+            if (i + 1 < R) {
+                const float *add = in + (size_t)((i + rr + 1) % R) * TW, *sub = in + (size_t)((i - rr + R) % R) * TW;
+                for (int x = 0; x < TW; x++)
+                    acc[x] += add[x] - sub[x];
+            }
+        }
+    }
+}
+
 /* The pattern of a, TW x R over the whole tile: coverage, blurred (amount in 1/256 of a
  * square texture's width, as Pattern_BlurAmount) and sharpened (Pattern_Contrast). */
 static int pattern(const SqCa *ca, const Ind *a, float *c)
@@ -271,12 +320,13 @@ static int pattern(const SqCa *ca, const Ind *a, float *c)
     const double su = a->blur * TW / 256.0, sv = a->blur * R / 256.0;
     for (int t = 0; t < R; t++)
         blur_line(c + (size_t)t * TW, TW, 1, su);
-    for (int x = 0; x < TW; x++)
-        blur_line(c + x, R, TW, sv);
+    blur_columns(c, sv);
     if (a->contrast > 0) {
         const float k = a->contrast >= 0.999 ? 1000.0f : (float)(1 / (1 - a->contrast));
-        for (int i = 0; i < TW * R; i++)
-            c[i] = fminf(fmaxf((c[i] - 0.5f) * k + 0.5f, 0.0f), 1.0f);
+        for (int i = 0; i < TW * R; i++) {
+            const float v = (c[i] - 0.5f) * k + 0.5f;
+            c[i] = v < 0 ? 0 : v > 1 ? 1 : v;
+        }
     }
     return 0;
 }
@@ -286,7 +336,8 @@ static int pattern(const SqCa *ca, const Ind *a, float *c)
  * cells and its reversal. */
 static void score(const Fold *f, double band_centre, Ind *a)
 {
-    float c[TW * R], band[BW * R];
+    /* the band twice over along, so that every phase d is a contiguous run from row d */
+    float c[TW * R], band[2 * R * BW], g[2 * R * G];
     a->corr = 0;
     a->fit = -INFINITY;
     a->k = a->rev = 0;
@@ -300,22 +351,24 @@ static void score(const Fold *f, double band_centre, Ind *a)
         for (int k = 0; k < n; k++) {
             /* rotated right by k cells, the pattern moves by k/n of the width */
             const double x0 = (band_centre - 1.0 / 6) * TW - (double)k * TW / n;
-            double m = 0;
             for (int x = 0; x < BW; x++) {
                 const double X = x0 + x, fx = floor(X);
                 const float t = (float)(X - fx);
                 const int i0 = (((int)fx % TW) + TW) % TW, i1 = (i0 + 1) % TW;
-                for (int r = 0; r < R; r++) {
-                    const float v = c[r * TW + i0] * (1 - t) + c[r * TW + i1] * t;
-                    band[r * BW + x] = v;
-                    m += v;
-                }
+                for (int r = 0; r < R; r++)
+                    band[r * BW + x] = c[r * TW + i0] * (1 - t) + c[r * TW + i1] * t;
             }
+            memcpy(band + R * BW, band, sizeof(float) * R * BW);
+            float m = 0;
+#pragma omp simd reduction(+ : m)
+            for (int i = 0; i < BW * R; i++)
+                m += band[i];
             m /= BW * R;
-            double ss = 0;
+            float ss = 0;
+#pragma omp simd reduction(+ : ss)
             for (int i = 0; i < BW * R; i++)
                 ss += (band[i] - m) * (band[i] - m);
-            if (!(ss > 1e-9))
+            if (!(ss > 1e-9f))
                 continue;
             const double inv = 1 / sqrt(ss);
             float cdf[HB];
@@ -323,32 +376,20 @@ static void score(const Fold *f, double band_centre, Ind *a)
             const double dist[2] = {emd(cdf, f->cdf[0]), emd(cdf, f->cdf[1])}; /* + and - correlated */
             /* the phases along where the band's and the fold's profiles in G groups of
              * columns agree best (either way along), then the whole correlation there */
-            float g[G][R];
-            group_profiles(band, g);
+            group_profiles(band, R, g);
+            memcpy(g + R * G, g, sizeof(float) * R * G);
             for (int dir = 0; dir < 2; dir++) {
                 float pc[R];
-                for (int d = 0; d < R; d++) {
-                    float sum = 0;
-                    for (int r = 0; r < R; r++) {
-                        const int q = (r + d) % R, rr = dir ? R - 1 - r : r;
-                        for (int gi = 0; gi < G; gi++)
-                            sum += f->g[gi][rr] * g[gi][q];
-                    }
-                    pc[d] = fabsf(sum);
-                }
+                for (int d = 0; d < R; d++)
+                    pc[d] = fabsf(dot(f->g[dir], g + d * G, R * G));
                 for (int pick = 0; pick < PHASES; pick++) {
                     int d = 0;
                     for (int e = 1; e < R; e++)
                         if (pc[e] > pc[d])
                             d = e;
                     pc[d] = -1;
-                    float sum = 0;
-                    for (int r = 0; r < R; r++) {
-                        const float *pr = f->p + (dir ? R - 1 - r : r) * BW, *bq = band + ((r + d) % R) * BW;
-                        for (int x = 0; x < BW; x++)
-                            sum += pr[x] * bq[x];
-                    }
-                    const double corr = sum * inv, fit = fabs(corr) - DIST_W * dist[corr < 0];
+                    const double corr = dot(f->p[dir], band + d * BW, R * BW) * inv;
+                    const double fit = fabs(corr) - DIST_W * dist[corr < 0];
                     if (fit > a->fit) {
                         a->fit = fit;
                         a->corr = corr;
