@@ -239,8 +239,9 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
     cJSON_AddStringToObject(root, "pick_rule",
                             "the front member with the lowest score: the sum over objectives of each "
-                            "objective divided by its median over the screening (norm); the simplest "
-                            "category within 5% of that score is preferred (none, then longitudinal "
+                            "objective divided by its median over the screening (norm); a plain skin "
+                            "within 30% of that score is preferred, else the simplest category within 5% "
+                            "of it (none, then longitudinal "
                             "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
                             "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
                             "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "

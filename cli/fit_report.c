@@ -139,9 +139,9 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         cli_buf_put(&b, "<td>%.4f</td>", r->norm[k]);
     cli_buf_put(&b, "<td></td></tr></table>\n");
     cli_buf_put(&b, "<p>The score is the sum of the objectives, each divided by its norm. best.json is the member of the "
-            "re-scored Pareto front with the lowest score, except that the simplest category within 5%% of it is "
-            "preferred (plain, then stripes or bands, then spots, then automata, then layered patterns, then "
-            "reaction-diffusion: the simpler explanation). ");
+            "re-scored Pareto front with the lowest score, except that a plain skin within 30%% of it is preferred, "
+            "else the simplest category within 5%% of it (plain, then stripes or bands, then spots, then automata, "
+            "then layered patterns, then reaction-diffusion: the simpler explanation). ");
     if (r->plain_twin)
         cli_buf_put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
                 "colour): best.json is its plain twin%s. ",
