@@ -240,14 +240,16 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddStringToObject(root, "pick_rule",
                             "the front member with the lowest score: the sum over objectives of each "
                             "objective divided by its median over the screening (norm); a plain skin "
-                            "within 30% of that score is preferred, else the simplest category within 5% "
-                            "of it (none, then longitudinal "
+                            "within 30% of that score is preferred (the plain twin of the best pattern "
+                            "when it scores better than the plain niche's best: plain_of_pattern), else "
+                            "the simplest category within 5% of it (none, then longitudinal "
                             "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
                             "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
                             "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "
                             "the champion becomes its plain twin, unless the twin scores more than 5% worse");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
+    cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);
     if (r->twin_score > 0)
         cJSON_AddItemToObject(root, "plain_twin_score", sq__json_exact_number(r->twin_score));
     if (r->read_corr != 0) {

@@ -142,6 +142,9 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             "re-scored Pareto front with the lowest score, except that a plain skin within 30%% of it is preferred, "
             "else the simplest category within 5%% of it (plain, then stripes or bands, then spots, then automata, "
             "then layered patterns, then reaction-diffusion: the simpler explanation). ");
+    if (r->plain_of_pattern)
+        cli_buf_put(&b, "The plain skin is the best pattern's plain twin (its scales, view scale and light, no "
+                "pattern), which scored better than the best plain skin searched for. ");
     if (r->plain_twin)
         cli_buf_put(&b, "The fitted pattern was invisible (%.1f%% of the band more than 5 CIEDE2000 from the dominant "
                 "colour): best.json is its plain twin%s. ",

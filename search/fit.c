@@ -939,11 +939,49 @@ double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre
     return vp - vq > 0 ? vp - vq : 0;
 }
 
-/* A champion whose pattern nobody can see is a plain skin: it becomes its plain twin (no
- * pattern, no layers, the background its dominant colour), re-scored, and leads the front
- * with the invisible original behind it, when the twin scores within PARSIMONY of it.
- * A twin that scores worse shows that the objectives see what the eye test does not (a
- * pattern of small differences all over the skin): the pattern stays. */
+/* c's plain twin: no pattern, no layers, the background c's dominant colour (dom). */
+static SqFitCandidate twin_of(const SqFitCandidate *c, const double dom[3])
+{
+    SqFitCandidate twin = *c;
+    twin.params.Pattern_Type = SQ_PATTERN_NONE;
+    twin.params.Pattern_Layers.count = 0;
+    for (int k = 0; k < 3; k++)
+        twin.params.Background_Color[k] = dom[k];
+    twin.params.Background_Color[3] = 1;
+    return twin;
+}
+
+/* A plain skin that leads by PLAIN_PARSIMONY over a pattern scoring better comes from a
+ * niche searched less than the pattern's (often dropped early): its scales, view scale and
+ * light can be far rougher (a plain photo's plain skin with scales stretched four times
+ * along, where the bands that beat it had them right). The best pattern's plain twin keeps
+ * the pattern's scales, view scale and light: it leads instead when it scores better. */
+static void plain_of_the_best_pattern(Fit *f)
+{
+    SqFitResult *r = f->r;
+    if (sq_fit_kind_of(&r->best.params) != SQ_PATTERN_NONE)
+        return;
+    const SqFitCandidate *p = NULL;
+    for (int i = 1; i < r->nfront; i++)
+        if (sq_fit_kind_of(&r->front[i].params) != SQ_PATTERN_NONE && (!p || r->front[i].score < p->score))
+            p = &r->front[i];
+    double dom[3];
+    if (!p || !(p->score < r->best.score) ||
+        sq_fit_pattern_visibility(&p->params, f->o.fine_size, f->o.band_centre, dom, NULL) < 0)
+        return;
+    SqFitCandidate twin = twin_of(p, dom);
+    rescore(f, &twin, 1);
+    if (!(twin.score < r->best.score))
+        return;
+    r->front[0] = r->best = twin;
+    r->plain_of_pattern = 1;
+}
+
+/* A champion whose pattern nobody can see is a plain skin: it becomes its plain twin,
+ * re-scored, and leads the front with the invisible original behind it, when the twin
+ * scores within PARSIMONY of it. A twin that scores worse shows that the objectives see
+ * what the eye test does not (a pattern of small differences all over the skin): the
+ * pattern stays. */
 static void plain_twin(Fit *f)
 {
     SqFitResult *r = f->r;
@@ -956,12 +994,7 @@ static void plain_twin(Fit *f)
     r->visibility = sq_fit_pattern_visibility(&b->params, f->o.fine_size, f->o.band_centre, dom, NULL);
     if (r->visibility < 0 || r->visibility >= VISIBLE_MIN)
         return;
-    SqFitCandidate twin = *b;
-    twin.params.Pattern_Type = SQ_PATTERN_NONE;
-    twin.params.Pattern_Layers.count = 0;
-    for (int c = 0; c < 3; c++)
-        twin.params.Background_Color[c] = dom[c];
-    twin.params.Background_Color[3] = 1;
+    SqFitCandidate twin = twin_of(b, dom);
     rescore(f, &twin, 1);
     if (!isfinite(twin.score)) /* a twin that cannot be rendered: nothing to report */
         return;
@@ -1452,6 +1485,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     st = finish(&f, fin, nfin, err);
     if (st != SQ_OK)
         goto done;
+    plain_of_the_best_pattern(&f);
     out->seconds[2] = now() - t;
     report(&f, "rescore", sq_fit_kind_of(&out->best.params));
     if (o->polish && o->method == SQ_FIT_SQUAMA && !out->stopped) {

@@ -65,6 +65,10 @@ static void assert_plain_rule(const SqFitResult *r)
         best = fmin(best, r->category_score[k]);
     if (r->category_score[SQ_PATTERN_NONE] <= 1.30 * best)
         assert_int_equal(sq_fit_kind_of(&r->best.params), SQ_PATTERN_NONE);
+    if (r->plain_of_pattern) { /* the best pattern's plain twin beat the plain niche's best */
+        assert_int_equal(sq_fit_kind_of(&r->best.params), SQ_PATTERN_NONE);
+        assert_true(r->best.score < r->category_score[SQ_PATTERN_NONE]);
+    }
 }
 
 static void recovers_category(void **state)

@@ -317,6 +317,9 @@ typedef struct SqFitResult {
     int polish_kept;
     double visibility;       /* the fitted pattern's visibility (sq_fit_pattern_visibility) */
     int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
+    int plain_of_pattern;    /* 1: a plain skin led (PLAIN_PARSIMONY), and the plain twin of
+                                the best pattern scored better than the plain niche's best:
+                                the champion is that twin */
     double twin_score;       /* the plain twin's score when the pattern was invisible, else 0;
                                 more than 5% above the champion's, the pattern stays */
     int automata_read;       /* automata read off the photo's strip that started the screening
