@@ -174,10 +174,10 @@ static int periods(const float *y, const float *w, int L, double *T)
     return n;
 }
 
-/* rows rows of img (BW wide) summed over each of G groups of columns: g[r * G + group]. */
-static void group_profiles(const float *img, int rows, float *g)
+/* img (BW x R) summed over each of G groups of columns, row by row: g[r * G + group]. */
+static void group_profiles(const float *img, float *g)
 {
-    for (int r = 0; r < rows; r++)
+    for (int r = 0; r < R; r++)
         for (int gi = 0; gi < G; gi++) {
             float sum = 0;
             for (int x = gi * (BW / G); x < (gi + 1) * (BW / G); x++)
@@ -251,29 +251,36 @@ static int fold(const float *y, const float *w, int L, double T, Fold *f)
     for (int i = 0; i < BW * R; i++)
         v[i] = hi > lo ? (f->p[0][i] - lo) / (hi - lo) : 0.5f;
     for (int dir = 0; dir < 2; dir++)
-        group_profiles(f->p[dir], R, f->g[dir]);
+        group_profiles(f->p[dir], f->g[dir]);
     cumulative(v, BW * R, 0, f->cdf[0]);
     cumulative(v, BW * R, 1, f->cdf[1]);
     return 1;
 }
 
-/* A cyclic blur of one line of n values (stride s, n <= TW) close to a Gaussian of sigma
- * samples: three box blurs of the same variance, by running sums over the line wrapped. */
-static void blur_line(float *v, int n, int s, double sigma)
+/* The radius of the box blur that, three times over, is close to a Gaussian of sigma
+ * samples, on a cyclic line of n (at most n - 1; 0: no blur). */
+static int box_radius(double sigma, int n)
 {
     const int r = (int)lround((sqrt(4 * sigma * sigma + 1) - 1) / 2);
-    if (r < 1)
+    return r < 1 ? 0 : r < n ? r : n - 1;
+}
+
+/* A cyclic blur of one line of n values (n <= TW) close to a Gaussian of sigma samples:
+ * three box blurs of the same variance, by running sums over the line wrapped. */
+static void blur_line(float *v, int n, double sigma)
+{
+    const int rr = box_radius(sigma, n);
+    if (rr < 1)
         return;
-    const int rr = r < n ? r : n - 1;
     float ext[TW + 2 * TW];
     for (int pass = 0; pass < 3; pass++) {
         for (int i = -rr; i < n + rr; i++)
-            ext[i + rr] = v[(size_t)((i + n) % n) * s];
+            ext[i + rr] = v[(i + n) % n];
         double acc = 0;
         for (int i = 0; i < 2 * rr + 1; i++)
             acc += ext[i];
         for (int i = 0; i < n; i++) {
-            v[(size_t)i * s] = (float)(acc / (2 * rr + 1));
+            v[i] = (float)(acc / (2 * rr + 1));
             if (i + 1 < n)
                 acc += ext[i + 2 * rr + 1] - ext[i];
         }
@@ -284,10 +291,9 @@ static void blur_line(float *v, int n, int s, double sigma)
  * in the same order, a row of them at a time. */
 static void blur_columns(float *c, double sigma)
 {
-    const int r = (int)lround((sqrt(4 * sigma * sigma + 1) - 1) / 2);
-    if (r < 1)
+    const int rr = box_radius(sigma, R);
+    if (rr < 1)
         return;
-    const int rr = r < R ? r : R - 1;
     float in[R * TW];
     double acc[TW];
     for (int pass = 0; pass < 3; pass++) {
@@ -319,7 +325,7 @@ static int pattern(const SqCa *ca, const Ind *a, float *c)
         return -1;
     const double su = a->blur * TW / 256.0, sv = a->blur * R / 256.0;
     for (int t = 0; t < R; t++)
-        blur_line(c + (size_t)t * TW, TW, 1, su);
+        blur_line(c + (size_t)t * TW, TW, su);
     blur_columns(c, sv);
     if (a->contrast > 0) {
         const float k = a->contrast >= 0.999 ? 1000.0f : (float)(1 / (1 - a->contrast));
@@ -376,7 +382,7 @@ static void score(const Fold *f, double band_centre, Ind *a)
             const double dist[2] = {emd(cdf, f->cdf[0]), emd(cdf, f->cdf[1])}; /* + and - correlated */
             /* the phases along where the band's and the fold's profiles in G groups of
              * columns agree best (either way along), then the whole correlation there */
-            group_profiles(band, R, g);
+            group_profiles(band, g);
             memcpy(g + R * G, g, sizeof(float) * R * G);
             for (int dir = 0; dir < 2; dir++) {
                 float pc[R];
