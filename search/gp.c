@@ -181,3 +181,22 @@ int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double 
     }
     return best;
 }
+
+void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *rank, const double *crowd,
+                       const SqCa *best, double keep, SqCa *out, int l)
+{
+    for (int k = 0; k < l; k++) {
+        if (uni(rng) < keep) {
+            out[k] = *best;
+            continue;
+        }
+        const SqCa *a = &parents[sq_gp_tournament(rng, n, 5, rank, crowd)];
+        out[k] = *a;
+        if (uni(rng) < 0.6)
+            sq_gp_ca_crossover(rng, a, &parents[sq_gp_tournament(rng, n, 5, rank, crowd)], &out[k]);
+        if (uni(rng) < 0.5)
+            sq_gp_ca_point_mutate(rng, &out[k]);
+        if (uni(rng) < 0.2)
+            sq_gp_ca_struct_mutate(rng, &out[k]);
+    }
+}

@@ -296,6 +296,55 @@ static void tournament_prefers_low_ranks(void **state)
     assert_int_equal(hist[n - 5], 0); /* worst rank, smallest crowding: wins only alone */
 }
 
+/* A generation's children: the kept share are the best automaton as it is, the others
+ * the parents' offspring (valid, mostly changed), the better-ranked parents more often. */
+static void children_keep_the_best_automaton(void **state)
+{
+    (void)state;
+    enum { n = 20, l = 4000 };
+    SqCa parents[n], best;
+    int rank[n];
+    double crowd[n];
+    uint64_t r = 11;
+    for (int i = 0; i < n; i++) {
+        sq_gp_ca_random(&r, &parents[i]);
+        rank[i] = i < 5 ? 0 : 1;
+        crowd[i] = 1;
+    }
+    sq_gp_ca_random(&r, &best); /* no parent's (nor, but by a fluke, any offspring's) */
+    for (int i = 0; i < n; i++)
+        assert_false(sq_ca_equal(&best, &parents[i]));
+    static SqCa out[l];
+    for (int keep = 0; keep <= 1; keep++) {
+        sq_gp_ca_children(&r, parents, n, rank, crowd, &best, keep ? 0.7 : 0.0, out, l);
+        int kept = 0, unchanged = 0, from_front = 0;
+        for (int k = 0; k < l; k++) {
+            assert_int_equal(sq_ca_validate(&out[k], "child", NULL), SQ_OK);
+            if (sq_ca_equal(&out[k], &best)) {
+                kept++;
+                continue;
+            }
+            for (int i = 0; i < n; i++)
+                if (sq_ca_equal(&out[k], &parents[i])) {
+                    unchanged++;
+                    from_front += i < 5;
+                    break;
+                }
+        }
+        const int bred = l - kept;
+        if (keep)
+            assert_true(kept > 0.66 * l && kept < 0.74 * l);
+        else
+            assert_int_equal(kept, 0);
+        /* untouched: no crossover, no mutation (0.4 x 0.5 x 0.8 = 16%), a few more
+         * where an operator changed nothing */
+        assert_true(unchanged > 0.12 * bred && unchanged < 0.25 * bred);
+        /* a tournament of 5 among 5 of rank 0 and 15 of rank 1 picks rank 0 with
+         * probability 1 - (15/20)^5 = 0.76 */
+        assert_true(from_front > 0.66 * unchanged);
+    }
+}
+
 /* Random candidates are drawn over narrower ranges than the search moves over, and most
  * lack colour noise, a post-process and an outline; a search's genome keeps its ranges. */
 static void draws_are_plausible(void **state)
@@ -410,6 +459,7 @@ int main(void)
         cmocka_unit_test(levels_for_cmaes),
         cmocka_unit_test(gp_operators_keep_automata_valid),
         cmocka_unit_test(tournament_prefers_low_ranks),
+        cmocka_unit_test(children_keep_the_best_automaton),
         cmocka_unit_test(draws_are_plausible),
         cmocka_unit_test(automata_read_off_their_strip),
     };

@@ -193,6 +193,13 @@ int sq_fit_read_automata(const SqImage *strip, const SqImage *valid, double band
  * the lowest rank wins, ties go to the larger crowding distance. */
 int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
 
+/* A generation's l child automata: each is `best` as it is with probability keep, else the
+ * winner of a tournament among the n parents (ranked by NSGA-II), crossed with another
+ * winner 60% of the time, then point-mutated 50% and structurally mutated 20% of the
+ * time. */
+void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *rank, const double *crowd,
+                       const SqCa *best, double keep, SqCa *out, int l);
+
 /* ---- the fit driver (fit.c) ----
  * From a photo's target features to the best preset, in three stages:
  *  1. screen: every kind of skin (the categories the generator can make, and layered
