@@ -679,7 +679,7 @@ static void gp_children(Niche *z, SqFitCandidate *c, int l)
     int *rank = malloc(sizeof(int) * (size_t)np);
     double *crowd = malloc(sizeof(double) * (size_t)np), *obj = malloc(sizeof(double) * SQ_OBJ_COUNT * (size_t)np);
     SqCa *parents = malloc(sizeof *parents * (size_t)np), *child = malloc(sizeof *child * (size_t)l);
-    if (rank && crowd && obj && parents && child) { /* else children keep their parents' automaton */
+    if (rank && crowd && obj && parents && child) { /* else every child keeps the best automaton */
         for (int i = 0; i < np; i++) {
             memcpy(obj + (size_t)i * SQ_OBJ_COUNT, z->pool[i].obj, sizeof z->pool[i].obj);
             parents[i] = z->pool[i].params.CA_Descriptor;

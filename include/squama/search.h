@@ -211,13 +211,15 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     time (search/draw.c);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
- *     candidate), GP operators moving its automata; every generation ranked by NSGA-II on
- *     the five objectives, one seed per generation (common random numbers); the worst
- *     niche is dropped one at a time until `niches` remain, the drops splitting the stage's
- *     budget into equal rounds (successive halving);
+ *     candidate), GP operators moving its automata (most children keeping the niche's
+ *     best automaton, so the CMA-ES ranks its genes against one); every generation
+ *     ranked by NSGA-II on the five objectives, one seed per generation (common random
+ *     numbers); the worst niche is dropped one at a time until `niches` remain, the drops
+ *     splitting the stage's budget into equal rounds (successive halving);
  *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
  *     over several seeds at the fine size; the champion picked from the re-scored front
- *     (see SqFitResult.norm; the simplest kind within 5% of the best is preferred: plain,
+ *     (see SqFitResult.norm; a plain skin within 30% of the best is preferred, as the best
+ *     pattern's plain twin when that scores better; else the simplest kind within 5%: plain,
  *     stripes or bands, spots, automata, layered, reaction-diffusion); the champion polished by
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
  *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
