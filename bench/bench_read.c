@@ -2,9 +2,11 @@
  * every fit pays before its screening, whether the reading is used or not. Two strips as a
  * fit sees them: the thesis' figure 4.9 automaton at view scale 0.6 (the reading is used)
  * and the spots of Table 4.4 (it is not), 700 rows each; on one thread and on all of them.
+ * Then reading spot lattices off the spots' strip (sq_fit_read_spots, one thread).
  * Ends with: RESULT read automaton_ms_1t=... automaton_ms=... spots_ms_1t=... spots_ms=...
- * threads=N (medians of SQ_BENCH_RUNS runs, default 5). */
+ * lattice_ms=... threads=N (medians of SQ_BENCH_RUNS runs, default 5). */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -43,7 +45,7 @@ int main(void)
     const int all = 1;
 #endif
     const double view = 0.6;
-    double ms[2][2];
+    double ms[2][2], lattice_ms = 0;
     printf("automata read off a %d x 700 strip (medians of %d runs)\n", SQ_FIT_STRIP_W, runs);
     for (int s = 0; s < 2; s++) {
         SqParams p;
@@ -71,9 +73,27 @@ int main(void)
                    view);
         else
             printf("no reading\n");
+        if (s == 1) { /* the spot lattice */
+            double t[64];
+            SqSpotsReading rd[3];
+            int n = 0;
+            for (int r = 0; r < runs; r++) {
+                const double t0 = now_ms();
+                n = sq_fit_read_spots(&strip, NULL, rd, 3);
+                t[r] = now_ms() - t0;
+            }
+            lattice_ms = median(t, runs);
+            printf("  spot lattice  %8.1f ms   ", lattice_ms);
+            if (n > 0)
+                printf("best: %d round, rows %.2f strip rows apart, offset %.3f (true %ld round)\n", rd[0].across,
+                       rd[0].spacing, rd[0].offset, lround(10 * p.Spots_Tiling));
+            else
+                printf("none\n");
+        }
         sq_image_free(&strip);
     }
-    printf("RESULT read automaton_ms_1t=%.0f automaton_ms=%.0f spots_ms_1t=%.0f spots_ms=%.0f threads=%d\n",
-           ms[0][0], ms[0][1], ms[1][0], ms[1][1], all);
+    printf("RESULT read automaton_ms_1t=%.0f automaton_ms=%.0f spots_ms_1t=%.0f spots_ms=%.0f lattice_ms=%.1f "
+           "threads=%d\n",
+           ms[0][0], ms[0][1], ms[1][0], ms[1][1], lattice_ms, all);
     return 0;
 }

@@ -258,6 +258,14 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON_AddItemToObject(ar, "view_scale", sq__json_exact_number(r->read_view_scale));
         cJSON_AddItemToObject(ar, "correlation", sq__json_exact_number(r->read_corr));
     }
+    if (r->spots_read_across > 0) {
+        cJSON *sr = cJSON_AddObjectToObject(root, "spots_read");
+        cJSON_AddNumberToObject(sr, "used", r->spots_read);
+        cJSON_AddNumberToObject(sr, "across", r->spots_read_across);
+        cJSON_AddItemToObject(sr, "view_scale", sq__json_exact_number(r->spots_read_view_scale));
+        cJSON_AddItemToObject(sr, "score", sq__json_exact_number(r->spots_read_score));
+        cJSON_AddBoolToObject(sr, "held", r->spots_held);
+    }
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));
     cJSON_AddItemToObject(root, "band_centre", sq__json_exact_number(fo->band_centre));

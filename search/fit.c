@@ -45,14 +45,24 @@ static const double SEARCH_END = 0.8;
 /* The view scale gene: log scale over the grid's range. */
 static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
 
+static double view_to_x_in(double v, double lo, double hi)
+{
+    return log(fmax(v, lo) / lo) / log(hi / lo);
+}
+
+static double x_to_view_in(double x, double lo, double hi)
+{
+    return lo * pow(hi / lo, fmin(fmax(x, 0), 1));
+}
+
 static double view_to_x(double v)
 {
-    return log(fmax(v, VIEW_LO) / VIEW_LO) / log(VIEW_HI / VIEW_LO);
+    return view_to_x_in(v, VIEW_LO, VIEW_HI);
 }
 
 static double x_to_view(double x)
 {
-    return VIEW_LO * pow(VIEW_HI / VIEW_LO, fmin(fmax(x, 0), 1));
+    return x_to_view_in(x, VIEW_LO, VIEW_HI);
 }
 
 static double now(void)
@@ -61,6 +71,9 @@ static double now(void)
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
+
+/* Spot lattices read off the photo that start screening candidates (spot_candidates). */
+enum { SPOT_READINGS = 3 };
 
 typedef struct Fit {
     const SqFeatures *target;
@@ -78,6 +91,9 @@ typedef struct Fit {
     int history_cap;
     double best_score, best_obj[SQ_OBJ_COUNT];
     int generation;
+    SqFitCandidate spot_read[SPOT_READINGS]; /* a screening candidate of each spot lattice read
+                                              * (spot_candidates): its lattice and view scale */
+    int nspot_read;
 } Fit;
 
 SqFitOptions sq_fit_options_default(void)
@@ -398,6 +414,37 @@ static int ncategories(const SqFitOptions *o)
     return n;
 }
 
+/* The skin the dominant colour, the pattern the palette's farthest in lightness the way
+ * of sign (> 0: lighter); none that way: the dominant colour is the pattern's, the skin
+ * the farthest the other way. Nothing with a palette of one colour. */
+static void polar_colours(Fit *f, double sign, double *skin, double *pattern)
+{
+    if (f->npal < 2)
+        return;
+    float lab[3];
+    sq_fit_srgb_to_lab(f->pal[0], lab);
+    const double l0 = lab[0];
+    sign = sign > 0 ? 1 : -1;
+    int in = 0, bg = 0;
+    double most = 0, least = 0;
+    for (int q = 1; q < f->npal; q++) {
+        sq_fit_srgb_to_lab(f->pal[q], lab);
+        const double d = (lab[0] - l0) * sign;
+        if (d > most) {
+            most = d;
+            in = q;
+        }
+        if (d < least) {
+            least = d;
+            bg = q;
+        }
+    }
+    if (in > 0)
+        bg = 0;
+    set_colour(f, skin, bg);
+    set_colour(f, pattern, in);
+}
+
 /* Screening candidates from automata read off the photo's strip: two a reading, at its
  * view scale, diameter, blur and contrast; the first coloured by the reading's polarity
  * (the pattern lighter or darker than the skin's dominant colour), the second as any
@@ -440,33 +487,72 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
             p->CustomPattern_LevelInHigh = 1;
             p->CustomPattern_LevelInMid = 0.5;
             x->view_scale = rd[i].view_scale;
-            if (v == 0 && f->npal > 1) { /* the skin the dominant colour, the pattern the
-                                          * palette's farthest the reading's way; none that
-                                          * way: the dominant colour is the pattern's, the
-                                          * skin the farthest the other way */
-                float lab[3];
-                sq_fit_srgb_to_lab(f->pal[0], lab);
-                const double l0 = lab[0], sign = rd[i].corr > 0 ? 1 : -1;
-                int in = 0, bg = 0;
-                double most = 0, least = 0;
-                for (int q = 1; q < f->npal; q++) {
-                    sq_fit_srgb_to_lab(f->pal[q], lab);
-                    const double d = (lab[0] - l0) * sign;
-                    if (d > most) {
-                        most = d;
-                        in = q;
-                    }
-                    if (d < least) {
-                        least = d;
-                        bg = q;
-                    }
-                }
-                if (in > 0)
-                    bg = 0;
-                set_colour(f, p->Background_Color, bg);
-                set_colour(f, p->CustomPattern_Color_Inside, in);
-            }
+            if (v == 0)
+                polar_colours(f, rd[i].corr, p->Background_Color, p->CustomPattern_Color_Inside);
         }
+    return k;
+}
+
+/* Screening candidates from spot lattices read off the photo's strip (sq_fit_read_spots):
+ * SPOT_SIZES a lattice, its count round the body (Spots_Tiling), offset and, from its
+ * spacing along, view scale; the spots in place, unturned, without warps, their
+ * semi-axes across and along a ladder of shares of the spacings each way; the skin the dominant colour and the spots the
+ * palette's farthest the strip's skew's way (darker or lighter). A spots niche searched
+ * from random draws settles on imitations (the scales' lattice at another view scale)
+ * while the truth's basin is narrow: a tenth more tiling, or spots a third narrower,
+ * double or triple the spectral objectives (docs/recovery.md, sessions 20 and 21). The fitness
+ * decides whether a lattice is spots: plain photos read their scales' lattice. Returns
+ * how many candidates were made (at most SPOT_READINGS * SPOT_SIZES). */
+enum { SPOT_STEPS = 5, SPOT_SIZES = SPOT_STEPS * SPOT_STEPS };
+static int spot_candidates(Fit *f, SqFitCandidate *c)
+{
+    if (!f->o.strip || !fitted(&f->o, SQ_PATTERN_SPOTS))
+        return 0;
+    SqSpotsReading rd[SPOT_READINGS];
+    const int nr = sq_fit_read_spots(f->o.strip, f->o.valid, rd, SPOT_READINGS);
+    SqGenome g;
+    if (nr == 0 || sq_genome_init_layered(&g, SQ_PATTERN_SPOTS, -1, NULL) != SQ_OK)
+        return 0;
+    sq__genome_narrow(&g);
+    int k = 0;
+    for (int i = 0; i < nr; i++) {
+        /* rows of spots a tile: as many as round the body (the fit's maps are square),
+         * made even when they are offset (sq__spots_grid) */
+        const int ny = rd[i].across + (rd[i].offset > 0 && rd[i].across % 2);
+        const double view = rd[i].spacing * ny * SQ_FIT_BAND_WIDTH / SQ_FIT_STRIP_W;
+        if (view < VIEW_LO || view > VIEW_HI)
+            continue;
+        if (k == 0) {
+            f->r->spots_read_across = rd[i].across;
+            f->r->spots_read_view_scale = view;
+            f->r->spots_read_score = rd[i].score;
+        }
+        for (int v = 0; v < SPOT_SIZES; v++) {
+            SqFitCandidate *x = &c[k++];
+            random_candidate(f, &g, x);
+            SqParams *p = &x->params;
+            p->Spots_Tiling = rd[i].across / 10.0;
+            p->Spots_Offset = rd[i].offset;
+            p->Spots_PositionRandom[0] = p->Spots_PositionRandom[1] = 0;
+            /* the semi-axes: 0.08 to 0.4 of the spacing across and of the rows' along,
+             * each a ladder of SPOT_STEPS a factor of 1.5 apart */
+            const double ra = 0.08 * pow(1.5, v % SPOT_STEPS), rb = 0.08 * pow(1.5, v / SPOT_STEPS),
+                         m = fmax(ra, rb);
+            p->Spots_Scale = 2 * m;
+            p->Spots_ScaleVariation = 0;
+            p->Spots_Interstice[0] = 1 - ra / m;
+            p->Spots_Interstice[1] = 1 - rb / m;
+            p->Spots_IntersticeRandom[0] = p->Spots_IntersticeRandom[1] = 0;
+            p->Spots_Rotation = p->Spots_RotationRandom = 0;
+            p->Pattern_RotatePattern90Degrees = 0;
+            p->Pattern_Warp_Small = p->Pattern_Warp_Large = 0;
+            p->Pattern_BlurAmount = p->Pattern_Contrast = p->Color_NoiseIntensity = 0;
+            x->view_scale = view;
+            polar_colours(f, rd[i].skew, p->Background_Color, p->Spots_Color);
+        }
+        f->spot_read[f->nspot_read++] = c[k - SPOT_SIZES];
+    }
+    f->r->spots_read = k;
     return k;
 }
 
@@ -481,8 +567,8 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
     }
     int n = per * ncat + f->o.nseeds;
-    SqFitCandidate *c = calloc((size_t)n + 2 * READINGS, sizeof *c);
-    double *col = malloc(sizeof(double) * ((size_t)n + 2 * READINGS));
+    SqFitCandidate *c = calloc((size_t)n + 2 * READINGS + SPOT_READINGS * SPOT_SIZES, sizeof *c);
+    double *col = malloc(sizeof(double) * ((size_t)n + 2 * READINGS + SPOT_READINGS * SPOT_SIZES));
     if (!c || !col) {
         free(c);
         free(col);
@@ -512,8 +598,11 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     }
     for (int i = 0; i < f->o.nseeds; i++)
         c[k++] = f->o.seeds[i];
-    /* the automata read off the photo: scored at the view scale read with them */
-    const int nread = read_candidates(f, c + k), rounds_n = n;
+    /* the automata and spot lattices read off the photo: scored at the view scale read
+     * with them */
+    int nread = read_candidates(f, c + k);
+    nread += spot_candidates(f, c + k + nread);
+    const int rounds_n = n;
     evaluate_all(f, c + k, nread, f->o.coarse_size, 0);
     n += nread;
     /* Scored round by round: the starting candidates and 4 of every kind, then 2 more of
@@ -597,12 +686,49 @@ typedef struct Niche {
     SqFitCandidate *pool;  /* GP: the automata's parents, lambda of them */
     int npool, pool_cap;
     uint64_t gp_rng;
+    double view_lo, view_hi; /* the view scale gene's range */
 } Niche;
 
 static void niche_free(Niche *z)
 {
     sq_cmaes_free(z->es);
     free(z->pool);
+}
+
+/* A spots niche started from a spot lattice read off the photo searches that lattice:
+ * its count round the body held, its offset within a sixteenth, its spots within 0.2 of
+ * their places and its view scale within 10%. Left free, the CMA-ES's mean leaves the
+ * lattice's narrow basin at once (its neighbours score far worse, and it keeps no elite),
+ * for the scales' lattice at another view scale. Returns 1 when it held one. */
+static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start)
+{
+    const SqParams *s = &start->params;
+    for (int i = 0; i < f->nspot_read; i++) {
+        const SqFitCandidate *r = &f->spot_read[i];
+        if (s->Spots_Tiling != r->params.Spots_Tiling || s->Spots_Offset != r->params.Spots_Offset ||
+            start->view_scale != r->view_scale)
+            continue;
+        const double nx = lround(10 * s->Spots_Tiling), o = s->Spots_Offset;
+        for (int j = 0; j < z->g.n; j++) {
+            SqGene *e = &z->g.genes[j];
+            if (e->layer >= 0)
+                continue;
+            if (strcmp(e->spec->name, "Spots_Tiling") == 0) {
+                e->lo = (nx - 0.45) / 10;
+                e->hi = (nx + 0.45) / 10;
+            } else if (strcmp(e->spec->name, "Spots_Offset") == 0) {
+                e->lo = fmax(o - 1.0 / 16, 0);
+                e->hi = fmin(o + 1.0 / 16, 1);
+            } else if (strcmp(e->spec->name, "Spots_PositionRandom") == 0) {
+                e->lo = 0;
+                e->hi = 0.2;
+            }
+        }
+        z->view_lo = start->view_scale / 1.1;
+        z->view_hi = start->view_scale * 1.1;
+        return 1;
+    }
+    return 0;
 }
 
 static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate *screened, int ns,
@@ -623,10 +749,14 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
     z->n = z->g.n + 1;
     z->best = *start;
     z->recent.score = INFINITY;
+    z->view_lo = VIEW_LO;
+    z->view_hi = VIEW_HI;
+    if (category == SQ_PATTERN_SPOTS)
+        f->r->spots_held = hold_spot_lattice(f, z, start);
     double x0[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
     int levels[SQ_GENOME_MAX + 1];
     sq_genome_encode(&z->g, &start->params, x0);
-    x0[z->g.n] = view_to_x(start->view_scale);
+    x0[z->g.n] = view_to_x_in(start->view_scale, z->view_lo, z->view_hi);
     sq_genome_levels(&z->g, levels);
     levels[z->g.n] = 0;
     for (int i = 0; i < z->n; i++) {
@@ -758,7 +888,7 @@ static int niche_step(Fit *f, Niche *z)
         c[k].params = z->best.params;
         sq_genome_decode(&z->g, X + (size_t)k * n, &c[k].params);
         c[k].params.Seed = seed;
-        c[k].view_scale = x_to_view(X[(size_t)k * n + z->g.n]);
+        c[k].view_scale = x_to_view_in(X[(size_t)k * n + z->g.n], z->view_lo, z->view_hi);
     }
     if (z->g.has_ca) {
         if (z->pool_cap < l) { /* IPOP grew lambda: so does the pool */

@@ -310,6 +310,50 @@ static void categories_fitted(void **state)
     assert_contains(err.what, "categories");
 }
 
+/* A spot lattice in the photo's strip starts the spots niche, which searches it: the
+ * count round the body read, held, and fitted; the view scale within 10% of the truth. */
+static void a_spot_lattice_read_is_searched(void **state)
+{
+    (void)state;
+    SKIP_WHEN_SANITIZED();
+    char path[4096];
+    SqParams p;
+    SqError err;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
+                     SQ_OK);
+    p.Spots_Tiling = 1.3;
+    p.Spots_Offset = 0.5;
+    p.Spots_PositionRandom[0] = p.Spots_PositionRandom[1] = 0;
+    const double view = 0.65;
+    SqTextures t = {0};
+    SqGenOptions go = sq_gen_options_default(256);
+    SqImage strip;
+    SqFeatures spots;
+    assert_int_equal(sq_gen_render(&p, &go, &t, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, view, 0.5, 512, &strip, &err),
+                     SQ_OK);
+    sq_gen_textures_free(&t);
+    assert_int_equal(sq_fit_features(&strip, NULL, &spots, &err), SQ_OK);
+    SqFitOptions o = small(2);
+    o.strip = &strip;
+    o.categories = 1u << SQ_PATTERN_SPOTS;
+    o.max_evals = 600;
+    o.niches = 1;
+    SqFitResult r;
+    assert_int_equal(sq_fit_run(&spots, &o, &r, &err), SQ_OK);
+    printf("  read %d round at view %.3f (score %.2f, %d candidates, held %d); fitted %ld round at view %.3f, "
+           "score %.3f\n",
+           r.spots_read_across, r.spots_read_view_scale, r.spots_read_score, r.spots_read, r.spots_held,
+           lround(10 * r.best.params.Spots_Tiling), r.best.view_scale, r.best.score);
+    assert_int_equal(r.spots_read_across, 13);
+    assert_true(r.spots_read > 0);
+    assert_true(r.spots_held);
+    assert_int_equal(lround(10 * r.best.params.Spots_Tiling), 13);
+    assert_true(fabs(r.best.view_scale / view - 1) < 0.1);
+    sq_fit_result_free(&r);
+    sq_image_free(&strip);
+}
+
 static void same_result_on_any_thread_count(void **state)
 {
     (void)state;
@@ -396,6 +440,7 @@ int main(void)
         cmocka_unit_test(visibility_measures_what_shows),
         cmocka_unit_test(an_invisible_pattern_is_a_plain_skin),
         cmocka_unit_test(a_faint_pattern_the_objectives_see_stays),
+        cmocka_unit_test(a_spot_lattice_read_is_searched),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

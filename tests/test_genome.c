@@ -388,6 +388,56 @@ static void draws_are_plausible(void **state)
     assert_int_equal(scale_default, 0);                       /* the pattern's own genes: always drawn */
 }
 
+/* Spot lattices of the thesis' Table 4.4 (its spots moved about by 0 to 0.1 of a cell),
+ * seen in a strip, are read back: the count round the body exactly, the view scale from
+ * the rows' spacing within 8%, best first, not at a multiple of the spacing; a flat strip
+ * and no strip give none. */
+static void spot_lattices_read_off_their_strip(void **state)
+{
+    (void)state;
+    static const struct {
+        double tiling, offset, view, random;
+    } cases[] = {{1.3, 0.5, 0.65, 0}, {0.8, 0, 1.0, 0}, {2.0, 0.5, 0.5, 0}, {1.0, 0.5, 0.8, 0.1}, {0.7, 0.5, 2.5, 0}};
+    SqParams p;
+    SqError err;
+    char path[1024];
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
+                     SQ_OK);
+    SqImage strip = {0};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        p.Spots_Tiling = cases[c].tiling;
+        p.Spots_Offset = cases[c].offset;
+        p.Spots_PositionRandom[0] = p.Spots_PositionRandom[1] = cases[c].random;
+        SqGenOptions go = sq_gen_options_default(256);
+        SqTextures maps = {0};
+        assert_int_equal(sq_gen_render_into(&p, &go, &maps, &err), SQ_OK);
+        sq_image_free(&strip);
+        assert_int_equal(sq_fit_candidate_strip(&maps.basecolor, NULL, NULL, NULL, cases[c].view, 0.5, 700, &strip, &err),
+                         SQ_OK);
+        sq_gen_textures_free(&maps);
+        SqSpotsReading rd[4];
+        const int n = sq_fit_read_spots(&strip, NULL, rd, 4);
+        assert_true(n >= 1 && n <= 4);
+        const int nx = (int)lround(10 * cases[c].tiling), ny = nx + (cases[c].offset > 0 && nx % 2);
+        const double view = rd[0].spacing * ny * SQ_FIT_BAND_WIDTH / SQ_FIT_STRIP_W;
+        printf("  tiling %.1f offset %.1f view %.2f: %d round at view %.3f (offset %.3f, score %.2f)\n",
+               cases[c].tiling, cases[c].offset, cases[c].view, rd[0].across, view, rd[0].offset, rd[0].score);
+        assert_int_equal(rd[0].across, nx);
+        assert_true(fabs(view / cases[c].view - 1) < 0.08);
+        assert_true(rd[0].skew > 0); /* yellow spots on black */
+        for (int i = 1; i < n; i++) {
+            assert_true(rd[i].score <= rd[i - 1].score);
+            assert_true(rd[i].across != rd[0].across);
+        }
+    }
+    SqSpotsReading rd[4];
+    for (size_t k = 0; k < (size_t)strip.width * strip.height * 3; k++)
+        strip.px[k] = 0.4f;
+    assert_int_equal(sq_fit_read_spots(&strip, NULL, rd, 4), 0);
+    assert_int_equal(sq_fit_read_spots(NULL, NULL, rd, 4), 0);
+    sq_image_free(&strip);
+}
+
 /* The thesis' automaton (figure 4.9) seen in a strip at view scale 0.6 is read back: the
  * strip's period gives the view scale, the automata read correlate with the strip, are
  * valid, come best first, and do not depend on the thread count; a strip that does not
@@ -462,6 +512,7 @@ int main(void)
         cmocka_unit_test(children_keep_the_best_automaton),
         cmocka_unit_test(draws_are_plausible),
         cmocka_unit_test(automata_read_off_their_strip),
+        cmocka_unit_test(spot_lattices_read_off_their_strip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

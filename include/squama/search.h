@@ -189,6 +189,27 @@ typedef struct SqCaReading {
 int sq_fit_read_automata(const SqImage *strip, const SqImage *valid, double band_centre, uint64_t seed,
                          SqCaReading *out, int max);
 
+/* A spot lattice read off a photo's strip (sq_fit_read_spots). */
+typedef struct SqSpotsReading {
+    int across;     /* spots round the body (Spots_Tiling * 10) */
+    double spacing; /* strip rows between rows of spots */
+    double offset;  /* every other row's shift, a share of the spacing across (Spots_Offset) */
+    double score;   /* the lattice's autocorrelation less its midpoints' (0 to 2) */
+    double skew;    /* the strip's lightness' skewness (< 0: the pattern darker than the skin) */
+} SqSpotsReading;
+
+/* Spot lattices that match a photo's strip (SQ_FIT_STRIP_W wide and at least twice as
+ * long, sRGB; valid, its valid pixels, may be NULL). Every lattice the spots pattern makes
+ * (5 to 48 spots round the body, rows of spots a quarter row apart, 16 offsets) is scored
+ * by the autocorrelation of the strip's lightness (less its columns' means and its trend
+ * along) at its short vectors and their longest multiples within reach, less at the
+ * points half a vector short of them. Per count round the body the best is read at the
+ * smallest spacing it is a whole multiple of (at most 8) scoring within 80% of it (a
+ * lattice scores as well at multiples of its spacing); the counts that score better than
+ * both neighbours are returned, up to max with a positive score, best first. Returns how
+ * many (0: bad arguments, a flat strip, or out of memory). Deterministic; 40 to 90 ms. */
+int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading *out, int max);
+
 /* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
  * the lowest rank wins, ties go to the larger crowding distance. */
 int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
@@ -208,10 +229,13 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     scale is estimated on its own here, before anything else moves); the genes are
  *     drawn over plausible ranges, and colour noise, each post-process gene (blur,
  *     contrast, the two warps) and Has_Outline are each at their default (none) half the
- *     time (search/draw.c);
+ *     time (search/draw.c); automata and spot lattices read off the photo's strip
+ *     (sq_fit_read_automata, sq_fit_read_spots) start more, at the view scale read
+ *     with them;
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
- *     candidate), GP operators moving its automata (most children keeping the niche's
+ *     candidate; a spots niche started from a lattice read searches that lattice, its
+ *     count round the body held, its offset and view scale near the reading), GP operators moving its automata (most children keeping the niche's
  *     best automaton, so the CMA-ES ranks its genes against one); every generation
  *     ranked by NSGA-II on the five objectives, one seed per generation (common random
  *     numbers); the worst niche is dropped one at a time until `niches` remain, the drops
@@ -336,6 +360,11 @@ typedef struct SqFitResult {
                                 reading correlates less than 0.8 with it) */
     double read_view_scale, read_corr; /* the best reading's view scale and correlation (0:
                                           nothing read) */
+    int spots_read;          /* screening candidates started from spot lattices read off the
+                              * photo's strip (sq_fit_read_spots) */
+    int spots_read_across;   /* the best lattice's spots round the body (0: none read) */
+    double spots_read_view_scale, spots_read_score; /* its view scale and score */
+    int spots_held;          /* 1: the spots niche searched a lattice read (started from it) */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
