@@ -235,7 +235,7 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
     /* per count round the body: the best score over spacings and offsets, read at the
      * smallest spacing it is a multiple of (NEAR) */
     const int nc = (int)(fmin(0.5 * DY, 0.25 * L) * SUB);
-    SqSpotsReading best[NX_MAX + 2]; /* NX_MIN - 1 and NX_MAX + 1: the ends' neighbours */
+    SqSpotsReading best[NX_MAX + 2] = {{0}}; /* NX_MIN - 1 and NX_MAX + 1: the ends' neighbours */
     double *S = malloc(sizeof(double) * (size_t)(nc + 1));
     int *O = malloc(sizeof(int) * (size_t)(nc + 1));
     if (!S || !O) {
