@@ -4,10 +4,11 @@
  * lightness as peaks at the lattice's vectors and troughs half way along them, whatever
  * the spots' colour or size. Every lattice the generator can make (its spots round the
  * body, the rows' spacing along, the offset) is scored by the autocorrelation at its short
- * vectors and their longest multiples in reach less at points half a vector short of
- * them. The autocorrelation comes from one FFT a column (GSL), the columns' cross-spectra
- * summed for each shift across; with the scan of the lattices, 40 to 90 ms a strip of
- * 400 to 1,400 rows on one core, a few evaluations' worth. Random spot positions (a third
+ * vectors, their longest multiples in reach and the texture tile's length along (where
+ * the whole pattern repeats, spots moved at random included) less at points half a
+ * vector short of them. The autocorrelation comes from one FFT a column (GSL), the columns' cross-spectra
+ * summed for each shift across; with the scan of the lattices, 40 to 130 ms a strip of
+ * 400 to 1,400 rows on one core (the machine busy), a few evaluations' worth. Random spot positions (a third
  * of a cell or more) leave no lattice to read: the fit's random draws are left those. */
 #include <math.h>
 #include <stdlib.h>
@@ -23,14 +24,14 @@ enum {
     W = SQ_FIT_STRIP_W,
     DX = 48,         /* shifts across: -DX to DX columns (a lattice vector is reduced to
                       * within half a spacing; the widest spacing, 192 / (NX_MIN - 1)) */
-    DY = 192,        /* shifts along: 0 to DY rows */
+    DY = 384,        /* shifts along: 0 to DY rows (a tile at view scale 2) */
     NX_MIN = 5,      /* spots round the body tried */
     NX_MAX = 48,
     TREND = 24,      /* the lightness' trend along: a box of 2 TREND + 1 rows */
     OFFSETS = 16,    /* offsets tried, 0 to 15/16 */
     SUB = 4          /* spacings along tried a row: a quarter of a row */
 };
-static const double CY_MIN = 2.5; /* the closest rows of spots, strip rows */
+static const double CY_MIN = 2.5, CY_MAX = 96; /* the rows of spots' spacings tried, strip rows */
 enum { Q_MAX = 4 }; /* the longest multiple of v2 scored: the spacing's grid, a quarter row, is off by
                      * at most half a row there */
 /* A lattice scores about as well at a multiple of its spacing along, whose vectors are
@@ -189,14 +190,16 @@ static int autocorrelation(const double *y, const double *w, int L, float *A)
 
 /* A lattice's score: the autocorrelation at its vectors less at points half way between
  * its spots. The vectors: across a row (v1), to the next row (v2, shifted by the offset)
- * and v2 - v1, whose midpoints are troughs; and the longest multiples of v1 and v2 in the
- * table, against the points half a vector short of them, which pin the spacings down
- * (a spacing a few percent off drifts a whole spot from the multiple). NAN when a vector is
- * outside the table. */
+ * and v2 - v1, whose midpoints are troughs; the longest multiples of v1 (half the strip's
+ * columns overlapping) and of v2 in the table, against the points half a vector short of
+ * them, which pin the spacings down (a spacing a few percent off drifts a whole spot from
+ * the multiple); and the tile's length, when in the table, against half a row short of
+ * it: a lattice read at a multiple of its spacing has its tile out of reach. NAN when a
+ * vector is outside the table. */
 static double lattice_score(const float *A, int nx, double cy, double o)
 {
     const double sx = (double)W / (SQ_FIT_BAND_WIDTH * nx); /* strip columns between spots */
-    const int m = (int)(DX / sx), q = (int)fmin(DY / cy, Q_MAX);
+    const int m = (int)(0.5 * W / sx), q = (int)fmin(DY / cy, Q_MAX); /* m: half the strip's columns overlap */
     const double ox = o * sx;
     /* peak, trough */
     const double pt[5][2][2] = {
@@ -215,6 +218,11 @@ static double lattice_score(const float *A, int nx, double cy, double o)
         peak += p;
         trough += t;
     }
+    /* the texture tile: ny rows of spots, as many as round the body (square maps), made
+     * even when offset; the whole pattern repeats there, spots moved at random included */
+    const double T = (nx + (o > 0 && nx % 2)) * cy, pT = at(A, 0, T), tT = at(A, 0, T - 0.5 * cy);
+    if (isfinite(pT) && isfinite(tT))
+        return (peak - trough + pT - tT) / (n + 1);
     return (peak - trough) / n;
 }
 
@@ -234,7 +242,7 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
         goto done;
     /* per count round the body: the best score over spacings and offsets, read at the
      * smallest spacing it is a multiple of (NEAR) */
-    const int nc = (int)(fmin(0.5 * DY, 0.25 * L) * SUB);
+    const int nc = (int)(fmin(CY_MAX, 0.25 * L) * SUB);
     SqSpotsReading best[NX_MAX + 2] = {{0}}; /* NX_MIN - 1 and NX_MAX + 1: the ends' neighbours */
     double *S = malloc(sizeof(double) * (size_t)(nc + 1));
     int *O = malloc(sizeof(int) * (size_t)(nc + 1));
@@ -247,7 +255,10 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
         double top = -INFINITY;
         for (int ci = (int)(CY_MIN * SUB); ci <= nc; ci++) {
             S[ci] = -INFINITY;
-            for (int oi = 0; oi < OFFSETS; oi++) {
+            /* none within a sixteenth of 0 or 1: rows offset have an even count a tile,
+             * so one spot fewer round, offset that little, would mimic a lattice with an
+             * odd count of rows unshifted, tile and all */
+            for (int oi = 0; oi < OFFSETS - 1; oi += oi == 0 ? 2 : 1) {
                 const double sc = lattice_score(A, nx, (double)ci / SUB, (double)oi / OFFSETS);
                 if (isfinite(sc) && sc > S[ci]) {
                     S[ci] = sc;

@@ -200,14 +200,15 @@ typedef struct SqSpotsReading {
 
 /* Spot lattices that match a photo's strip (SQ_FIT_STRIP_W wide and at least twice as
  * long, sRGB; valid, its valid pixels, may be NULL). Every lattice the spots pattern makes
- * (5 to 48 spots round the body, rows of spots a quarter row apart, 16 offsets) is scored
- * by the autocorrelation of the strip's lightness (less its columns' means and its trend
- * along) at its short vectors and their longest multiples within reach, less at the
- * points half a vector short of them. Per count round the body the best is read at the
+ * (5 to 48 spots round the body, rows of spots a quarter row apart, offsets 0 and 1/8 to
+ * 7/8 in sixteenths) is scored by the autocorrelation of the strip's lightness
+ * (less its columns' means and its trend along) at its short vectors, their longest
+ * multiples within reach and the texture tile's length along, less at the points half a
+ * vector short of them. Per count round the body the best is read at the
  * smallest spacing it is a whole multiple of (at most 8) scoring within 80% of it (a
  * lattice scores as well at multiples of its spacing); the counts that score better than
  * both neighbours are returned, up to max with a positive score, best first. Returns how
- * many (0: bad arguments, a flat strip, or out of memory). Deterministic; 40 to 90 ms. */
+ * many (0: bad arguments, a flat strip, or out of memory). Deterministic; under 0.15 s. */
 int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading *out, int max);
 
 /* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
