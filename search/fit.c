@@ -91,8 +91,9 @@ typedef struct Fit {
     int history_cap;
     double best_score, best_obj[SQ_OBJ_COUNT];
     int generation;
-    SqFitCandidate spot_read[SPOT_READINGS]; /* a screening candidate of each spot lattice read
-                                              * (spot_candidates): its lattice and view scale */
+    struct {
+        double tiling, offset, view;
+    } spot_read[SPOT_READINGS]; /* the spot lattices read that started screening candidates */
     int nspot_read;
 } Fit;
 
@@ -495,14 +496,15 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
 
 /* Screening candidates from spot lattices read off the photo's strip (sq_fit_read_spots):
  * SPOT_SIZES a lattice, its count round the body (Spots_Tiling), offset and, from its
- * spacing along, view scale; the spots in place, unturned, without warps, their
- * semi-axes across and along a ladder of shares of the spacings each way; the skin the dominant colour and the spots the
- * palette's farthest the strip's skew's way (darker or lighter). A spots niche searched
- * from random draws settles on imitations (the scales' lattice at another view scale)
- * while the truth's basin is narrow: a tenth more tiling, or spots a third narrower,
- * double or triple the spectral objectives (docs/recovery.md, sessions 20 and 21). The fitness
- * decides whether a lattice is spots: plain photos read their scales' lattice. Returns
- * how many candidates were made (at most SPOT_READINGS * SPOT_SIZES). */
+ * spacing along, view scale; the spots in place, unturned, without warps, blur or
+ * contrast, their semi-axes across and along a ladder of shares of the spacings; the skin
+ * the dominant colour and the spots the palette's farthest the strip's skew's way
+ * (darker or lighter). A spots niche searched from random draws settles on imitations
+ * (the scales' lattice at another view scale) while the truth's basin is narrow: a tenth
+ * more tiling, or spots a third narrower, double or triple the spectral objectives
+ * (docs/recovery.md, sessions 20 and 21). The fitness decides whether a lattice is spots:
+ * plain photos read their scales' lattice. Returns how many candidates were made (at
+ * most SPOT_READINGS * SPOT_SIZES). */
 enum { SPOT_STEPS = 5, SPOT_SIZES = SPOT_STEPS * SPOT_STEPS };
 static int spot_candidates(Fit *f, SqFitCandidate *c)
 {
@@ -550,7 +552,9 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
             x->view_scale = view;
             polar_colours(f, rd[i].skew, p->Background_Color, p->Spots_Color);
         }
-        f->spot_read[f->nspot_read++] = c[k - SPOT_SIZES];
+        f->spot_read[f->nspot_read].tiling = rd[i].across / 10.0;
+        f->spot_read[f->nspot_read].offset = rd[i].offset;
+        f->spot_read[f->nspot_read++].view = view;
     }
     f->r->spots_read = k;
     return k;
@@ -704,9 +708,8 @@ static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start
 {
     const SqParams *s = &start->params;
     for (int i = 0; i < f->nspot_read; i++) {
-        const SqFitCandidate *r = &f->spot_read[i];
-        if (s->Spots_Tiling != r->params.Spots_Tiling || s->Spots_Offset != r->params.Spots_Offset ||
-            start->view_scale != r->view_scale)
+        if (s->Spots_Tiling != f->spot_read[i].tiling || s->Spots_Offset != f->spot_read[i].offset ||
+            start->view_scale != f->spot_read[i].view)
             continue;
         const double nx = lround(10 * s->Spots_Tiling), o = s->Spots_Offset;
         for (int j = 0; j < z->g.n; j++) {
