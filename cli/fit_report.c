@@ -168,9 +168,12 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
                                    "pattern that repeats)");
     if (r->spots_read_across > 0)
         cli_buf_put(&b, "<p>The best spot lattice read off the strip has %d spots round the body at view scale %.2f "
-                "(score %.2f); %d screening candidates started from the lattices read%s.</p>\n",
-            r->spots_read_across, r->spots_read_view_scale, r->spots_read_score, r->spots_read,
-            r->spots_held ? ", and the spots niche searched the one its best started from" : "");
+                "(score %.2f): %s.</p>\n",
+            r->spots_read_across, r->spots_read_view_scale, r->spots_read_score,
+            r->spots_read == 0 ? "below 0.8, too weak to start the screening"
+            : r->spots_held    ? "the lattices read started the spots' screening, and the spots niche searched the one "
+                                 "its best started from"
+                               : "the lattices read started the spots' screening");
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))

@@ -311,7 +311,8 @@ static void categories_fitted(void **state)
 }
 
 /* A spot lattice in the photo's strip starts the spots niche, which searches it: the
- * count round the body read, held, and fitted; the view scale within 10% of the truth. */
+ * count round the body read, held, and fitted; the view scale within 10% of the truth.
+ * A plain skin's strip reads too weakly to start anything. */
 static void a_spot_lattice_read_is_searched(void **state)
 {
     (void)state;
@@ -350,6 +351,23 @@ static void a_spot_lattice_read_is_searched(void **state)
     assert_true(r.spots_held);
     assert_int_equal(lround(10 * r.best.params.Spots_Tiling), 13);
     assert_true(fabs(r.best.view_scale / view - 1) < 0.1);
+    sq_fit_result_free(&r);
+    sq_image_free(&strip);
+
+    /* the same skin without its spots: the scales' lattice reads weakly, and starts nothing */
+    p.Pattern_Type = SQ_PATTERN_NONE;
+    assert_int_equal(sq_gen_render(&p, &go, &t, &err), SQ_OK);
+    assert_int_equal(sq_fit_candidate_strip(&t.basecolor, &t.normal, &t.roughness, NULL, view, 0.5, 512, &strip, &err),
+                     SQ_OK);
+    sq_gen_textures_free(&t);
+    assert_int_equal(sq_fit_features(&strip, NULL, &spots, &err), SQ_OK);
+    o.max_evals = 200;
+    assert_int_equal(sq_fit_run(&spots, &o, &r, &err), SQ_OK);
+    printf("  plain: read %d round (score %.2f), %d candidates\n", r.spots_read_across, r.spots_read_score,
+           r.spots_read);
+    assert_true(r.spots_read_score < 0.8);
+    assert_int_equal(r.spots_read, 0);
+    assert_false(r.spots_held);
     sq_fit_result_free(&r);
     sq_image_free(&strip);
 }
