@@ -712,13 +712,20 @@ static void niche_free(Niche *z)
  * their places and its view scale within 10%. Left free, the CMA-ES's mean leaves the
  * lattice's narrow basin at once (its neighbours score far worse, and it keeps no elite),
  * for the scales' lattice at another view scale. Returns 1 when it held one. */
+static int read_lattice(const Fit *f, const SqFitCandidate *c)
+{
+    for (int i = 0; i < f->nspot_read; i++)
+        if (c->params.Pattern_Type == SQ_PATTERN_SPOTS && c->params.Pattern_Layers.count == 0 &&
+            c->params.Spots_Tiling == f->spot_read[i].tiling && c->params.Spots_Offset == f->spot_read[i].offset &&
+            c->view_scale == f->spot_read[i].view)
+            return 1;
+    return 0;
+}
+
 static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start)
 {
     const SqParams *s = &start->params;
-    for (int i = 0; i < f->nspot_read; i++) {
-        if (s->Spots_Tiling != f->spot_read[i].tiling || s->Spots_Offset != f->spot_read[i].offset ||
-            start->view_scale != f->spot_read[i].view)
-            continue;
+    if (read_lattice(f, start)) {
         const double nx = lround(10 * s->Spots_Tiling), o = s->Spots_Offset;
         for (int j = 0; j < z->g.n; j++) {
             SqGene *e = &z->g.genes[j];
@@ -748,6 +755,10 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
     memset(z, 0, sizeof *z);
     z->category = category;
     const SqFitCandidate *start = NULL;
+    if (category == SQ_PATTERN_SPOTS) /* a strong lattice read starts it, however coloured */
+        for (int i = 0; i < ns && !start; i++)
+            if (read_lattice(f, &screened[i]))
+                start = &screened[i];
     for (int i = 0; i < ns && !start; i++)
         if (sq_fit_kind_of(&screened[i].params) == category)
             start = &screened[i];
