@@ -707,11 +707,7 @@ static void niche_free(Niche *z)
     free(z->pool);
 }
 
-/* A spots niche started from a spot lattice read off the photo searches that lattice:
- * its count round the body held, its offset within a sixteenth, its spots within 0.2 of
- * their places and its view scale within 10%. Left free, the CMA-ES's mean leaves the
- * lattice's narrow basin at once (its neighbours score far worse, and it keeps no elite),
- * for the scales' lattice at another view scale. Returns 1 when it held one. */
+/* Whether c is a screening candidate started from a spot lattice read (spot_candidates). */
 static int read_lattice(const Fit *f, const SqFitCandidate *c)
 {
     for (int i = 0; i < f->nspot_read; i++)
@@ -722,6 +718,13 @@ static int read_lattice(const Fit *f, const SqFitCandidate *c)
     return 0;
 }
 
+/* A spots niche starts from the best screened candidate of a lattice read, when there
+ * is one (it starts with the palette's colours, and a random spots candidate may screen
+ * better for its colours alone), and searches that lattice: its count round the body
+ * held, its offset within a sixteenth, its spots within 0.2 of their places and its view
+ * scale within 10%. Left free, the CMA-ES's mean leaves the lattice's narrow basin at
+ * once (its neighbours score far worse, and it keeps no elite), for the scales' lattice
+ * at another view scale. Returns 1 when it held one. */
 static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start)
 {
     const SqParams *s = &start->params;

@@ -235,8 +235,9 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     with them, when the best reading is strong;
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
- *     candidate; a spots niche started from a lattice read searches that lattice, its
- *     count round the body held, its offset and view scale near the reading), GP operators moving its automata (most children keeping the niche's
+ *     candidate; a spots niche starts from a lattice read when there is one, and
+ *     searches that lattice, its count round the body held, its offset and view scale
+ *     near the reading), GP operators moving its automata (most children keeping the niche's
  *     best automaton, so the CMA-ES ranks its genes against one); every generation
  *     ranked by NSGA-II on the five objectives, one seed per generation (common random
  *     numbers); the worst niche is dropped one at a time until `niches` remain, the drops
