@@ -507,8 +507,9 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
  * most (their scales' lattice; a clean render up to 0.77), five of the six spot photos
  * (their spots moved at random, or small and faint) 0.17 to 0.46, and only one spot
  * photo and two automata read 0.8 or more; started on every photo, the lattices read
- * made spots the impostor on 3 of the 6 complex photos. The best reading is kept in the result either way. Returns how
- * many candidates were made (at most SPOT_READINGS * SPOT_SIZES). */
+ * made spots the impostor on 3 of the 6 complex photos. The best reading is kept in the
+ * result either way. Returns how many candidates were made (at most SPOT_READINGS *
+ * SPOT_SIZES). */
 enum { SPOT_STEPS = 5, SPOT_SIZES = SPOT_STEPS * SPOT_STEPS };
 static const double SPOT_READ_MIN = 0.8;
 static int spot_candidates(Fit *f, SqFitCandidate *c)
@@ -517,16 +518,9 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
         return 0;
     SqSpotsReading rd[SPOT_READINGS];
     const int nr = sq_fit_read_spots(f->o.strip, f->o.valid, rd, SPOT_READINGS);
-    double view[SPOT_READINGS];
-    for (int i = 0; i < nr; i++) {
-        /* rows of spots a tile: as many as round the body (the fit's maps are square),
-         * made even when they are offset (sq__spots_grid) */
-        const int ny = rd[i].across + (rd[i].offset > 0 && rd[i].across % 2);
-        view[i] = rd[i].spacing * ny * SQ_FIT_BAND_WIDTH / SQ_FIT_STRIP_W;
-    }
     if (nr > 0) {
         f->r->spots_read_across = rd[0].across;
-        f->r->spots_read_view_scale = view[0];
+        f->r->spots_read_view_scale = rd[0].view_scale;
         f->r->spots_read_score = rd[0].score;
     }
     SqGenome g;
@@ -535,7 +529,7 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
     sq__genome_narrow(&g);
     int k = 0;
     for (int i = 0; i < nr; i++) {
-        if (view[i] < VIEW_LO || view[i] > VIEW_HI)
+        if (rd[i].view_scale < VIEW_LO || rd[i].view_scale > VIEW_HI)
             continue;
         for (int v = 0; v < SPOT_SIZES; v++) {
             SqFitCandidate *x = &c[k++];
@@ -557,12 +551,12 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
             p->Pattern_RotatePattern90Degrees = 0;
             p->Pattern_Warp_Small = p->Pattern_Warp_Large = 0;
             p->Pattern_BlurAmount = p->Pattern_Contrast = p->Color_NoiseIntensity = 0;
-            x->view_scale = view[i];
+            x->view_scale = rd[i].view_scale;
             polar_colours(f, rd[i].skew, p->Background_Color, p->Spots_Color);
         }
         f->spot_read[f->nspot_read].tiling = rd[i].across / 10.0;
         f->spot_read[f->nspot_read].offset = rd[i].offset;
-        f->spot_read[f->nspot_read++].view = view[i];
+        f->spot_read[f->nspot_read++].view = rd[i].view_scale;
     }
     f->r->spots_read = k;
     return k;
@@ -710,9 +704,11 @@ static void niche_free(Niche *z)
 /* Whether c is a screening candidate started from a spot lattice read (spot_candidates). */
 static int read_lattice(const Fit *f, const SqFitCandidate *c)
 {
+    const SqParams *p = &c->params;
+    if (p->Pattern_Type != SQ_PATTERN_SPOTS || p->Pattern_Layers.count != 0)
+        return 0;
     for (int i = 0; i < f->nspot_read; i++)
-        if (c->params.Pattern_Type == SQ_PATTERN_SPOTS && c->params.Pattern_Layers.count == 0 &&
-            c->params.Spots_Tiling == f->spot_read[i].tiling && c->params.Spots_Offset == f->spot_read[i].offset &&
+        if (p->Spots_Tiling == f->spot_read[i].tiling && p->Spots_Offset == f->spot_read[i].offset &&
             c->view_scale == f->spot_read[i].view)
             return 1;
     return 0;
@@ -727,29 +723,27 @@ static int read_lattice(const Fit *f, const SqFitCandidate *c)
  * at another view scale. Returns 1 when it held one. */
 static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start)
 {
-    const SqParams *s = &start->params;
-    if (read_lattice(f, start)) {
-        const double nx = lround(10 * s->Spots_Tiling), o = s->Spots_Offset;
-        for (int j = 0; j < z->g.n; j++) {
-            SqGene *e = &z->g.genes[j];
-            if (e->layer >= 0)
-                continue;
-            if (strcmp(e->spec->name, "Spots_Tiling") == 0) {
-                e->lo = (nx - 0.45) / 10;
-                e->hi = (nx + 0.45) / 10;
-            } else if (strcmp(e->spec->name, "Spots_Offset") == 0) {
-                e->lo = fmax(o - 1.0 / 16, 0);
-                e->hi = fmin(o + 1.0 / 16, 1);
-            } else if (strcmp(e->spec->name, "Spots_PositionRandom") == 0) {
-                e->lo = 0;
-                e->hi = 0.2;
-            }
+    if (!read_lattice(f, start))
+        return 0;
+    const double nx = lround(10 * start->params.Spots_Tiling), o = start->params.Spots_Offset;
+    for (int j = 0; j < z->g.n; j++) {
+        SqGene *e = &z->g.genes[j];
+        if (e->layer >= 0)
+            continue;
+        if (strcmp(e->spec->name, "Spots_Tiling") == 0) {
+            e->lo = (nx - 0.45) / 10;
+            e->hi = (nx + 0.45) / 10;
+        } else if (strcmp(e->spec->name, "Spots_Offset") == 0) {
+            e->lo = fmax(o - 1.0 / 16, 0);
+            e->hi = fmin(o + 1.0 / 16, 1);
+        } else if (strcmp(e->spec->name, "Spots_PositionRandom") == 0) {
+            e->lo = 0;
+            e->hi = 0.2;
         }
-        z->view_lo = start->view_scale / 1.1;
-        z->view_hi = start->view_scale * 1.1;
-        return 1;
     }
-    return 0;
+    z->view_lo = start->view_scale / 1.1;
+    z->view_hi = start->view_scale * 1.1;
+    return 1;
 }
 
 static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate *screened, int ns,

@@ -6,10 +6,11 @@
  * body, the rows' spacing along, the offset) is scored by the autocorrelation at its short
  * vectors, their longest multiples in reach and the texture tile's length along (where
  * the whole pattern repeats, spots moved at random included) less at points half a
- * vector short of them. The autocorrelation comes from one FFT a column (GSL), the columns' cross-spectra
- * summed for each shift across; with the scan of the lattices, 40 to 130 ms a strip of
- * 400 to 1,400 rows on one core (the machine busy), a few evaluations' worth. Random spot positions (a third
- * of a cell or more) leave no lattice to read: the fit's random draws are left those. */
+ * vector short of them. The autocorrelation comes from one FFT a column (GSL), the
+ * columns' cross-spectra summed for each shift across; with the scan of the lattices,
+ * 45 ms a strip of 700 rows on one core (scripts/bench read), a few evaluations' worth.
+ * Random spot positions (a third of a cell or more) leave no lattice to read: the fit's
+ * random draws are left those. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,6 +40,13 @@ enum { Q_MAX = 4 }; /* the longest multiple of v2 scored: the spacing's grid, a 
  * fraction of it (1 / K_MAX or more; the ratio within DIVISOR of a whole number), is read. */
 static const double NEAR = 0.8, DIVISOR = 0.15;
 enum { K_MAX = 8 };
+
+/* Rows of spots a texture tile for nx round the body at offset o: as many (the fit's
+ * maps are square), made even when the rows are offset, as the generator's grid. */
+static int tile_rows(int nx, double o)
+{
+    return nx + (o > 0 && nx % 2);
+}
 
 /* The autocorrelation at a fractional shift (dx, dy), dy >= 0 after the symmetry A(-d) =
  * A(d); bilinear; NAN outside the table. */
@@ -218,9 +226,8 @@ static double lattice_score(const float *A, int nx, double cy, double o)
         peak += p;
         trough += t;
     }
-    /* the texture tile: ny rows of spots, as many as round the body (square maps), made
-     * even when offset; the whole pattern repeats there, spots moved at random included */
-    const double T = (nx + (o > 0 && nx % 2)) * cy, pT = at(A, 0, T), tT = at(A, 0, T - 0.5 * cy);
+    /* the texture tile: the whole pattern repeats there, spots moved at random included */
+    const double T = tile_rows(nx, o) * cy, pT = at(A, 0, T), tT = at(A, 0, T - 0.5 * cy);
     if (isfinite(pT) && isfinite(tT))
         return (peak - trough + pT - tT) / (n + 1);
     return (peak - trough) / n;
@@ -276,8 +283,10 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
             const double k = (double)tc / ci;
             if (S[ci] >= NEAR * top && round(k) <= K_MAX && fabs(k - round(k)) < DIVISOR &&
                 (ci == tc || (ci > (int)(CY_MIN * SUB) && S[ci] >= S[ci - 1] && S[ci] >= S[ci + 1]))) {
-                best[nx] = (SqSpotsReading){.across = nx, .spacing = (double)ci / SUB,
-                                            .offset = (double)O[ci] / OFFSETS, .score = top, .skew = skew};
+                const double cy = (double)ci / SUB, o = (double)O[ci] / OFFSETS;
+                best[nx] = (SqSpotsReading){.across = nx, .spacing = cy, .offset = o,
+                                            .view_scale = cy * tile_rows(nx, o) * SQ_FIT_BAND_WIDTH / W,
+                                            .score = top, .skew = skew};
                 break;
             }
         }

@@ -194,6 +194,9 @@ typedef struct SqSpotsReading {
     int across;     /* spots round the body (Spots_Tiling * 10) */
     double spacing; /* strip rows between rows of spots */
     double offset;  /* every other row's shift, a share of the spacing across (Spots_Offset) */
+    double view_scale; /* the view scale the spacing gives: as many rows of spots a tile as
+                        * round the body (square maps), even when offset (the generator's
+                        * grid) */
     double score;   /* the lattice's autocorrelation less its midpoints' (0 to 2) */
     double skew;    /* the strip's lightness' skewness (< 0: the pattern darker than the skin) */
 } SqSpotsReading;
