@@ -498,8 +498,10 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
  * SPOT_SIZES a lattice, its count round the body (Spots_Tiling), offset and, from its
  * spacing along, view scale; the spots in place, unturned, without warps, blur or
  * contrast, their semi-axes across and along a ladder of shares of the spacings; the skin
- * the dominant colour and the spots the palette's farthest the strip's skew's way
- * (darker or lighter). A spots niche searched from random draws settles on imitations
+ * and the spots coloured as the strip's middle lightness and its 2% farthest the skew's
+ * way (the palette blends small spots with the skin around them: coloured from it, row
+ * 18's read candidates scored 3 to 10 on the palette objective, the truth 0.9). A spots
+ * niche searched from random draws settles on imitations
  * (the scales' lattice at another view scale) while the truth's basin is narrow: a tenth
  * more tiling, or spots a third narrower, double or triple the spectral objectives
  * (docs/recovery.md, sessions 20 and 21). Used only when the best lattice scores
@@ -552,7 +554,13 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
             p->Pattern_Warp_Small = p->Pattern_Warp_Large = 0;
             p->Pattern_BlurAmount = p->Pattern_Contrast = p->Color_NoiseIntensity = 0;
             x->view_scale = rd[i].view_scale;
-            polar_colours(f, rd[i].skew, p->Background_Color, p->Spots_Color);
+            if (rd[i].coloured)
+                for (int ch = 0; ch < 3; ch++) {
+                    p->Background_Color[ch] = rd[i].skin[ch];
+                    p->Spots_Color[ch] = rd[i].spot[ch];
+                }
+            else
+                polar_colours(f, rd[i].skew, p->Background_Color, p->Spots_Color);
         }
         f->spot_read[f->nspot_read].tiling = rd[i].across / 10.0;
         f->spot_read[f->nspot_read].offset = rd[i].offset;

@@ -137,6 +137,58 @@ static double highpass(const SqImage *s, const SqImage *valid, double *y, double
     return m3 / n / pow(m2, 1.5);
 }
 
+static int cmp_dbl(const void *a, const void *b)
+{
+    const double x = *(const double *)a, z = *(const double *)b;
+    return (x > z) - (x < z);
+}
+
+/* The skin's and the spots' colours (sRGB): the mean colour of the strip's valid pixels
+ * whose high-passed lightness y lies in its middle SKIN_SHARE, and of those in its
+ * SPOT_SHARE farthest the skew's way (< 0: the darkest). The photo's palette blends small
+ * spots with the skin around them; these are the spots' own. 0 on failure. */
+static const double SKIN_SHARE = 0.4, SPOT_SHARE = 0.02;
+
+static int strip_colours(const SqImage *s, const double *y, const double *w, double skew, double skin[3],
+                         double spot[3])
+{
+    const size_t N = (size_t)s->height * W;
+    double *v = malloc(sizeof(double) * N);
+    if (!v)
+        return 0;
+    size_t n = 0;
+    for (size_t k = 0; k < N; k++)
+        if (w[k] > 0)
+            v[n++] = y[k];
+    if (n < 100) {
+        free(v);
+        return 0;
+    }
+    qsort(v, n, sizeof *v, cmp_dbl);
+    const double s_lo = v[(size_t)((0.5 - SKIN_SHARE / 2) * (double)n)], s_hi = v[(size_t)((0.5 + SKIN_SHARE / 2) * (double)n)];
+    const double cut = skew < 0 ? v[(size_t)(SPOT_SHARE * (double)n)] : v[(size_t)((1 - SPOT_SHARE) * (double)n)];
+    free(v);
+    double sk[4] = {0}, sp[4] = {0};
+    for (size_t k = 0; k < N; k++) {
+        if (!(w[k] > 0))
+            continue;
+        const float *px = s->px + ((k / W) * (size_t)s->width + k % W) * (size_t)s->channels;
+        double *acc = y[k] >= s_lo && y[k] <= s_hi ? sk : (skew < 0 ? y[k] <= cut : y[k] >= cut) ? sp : NULL;
+        if (!acc)
+            continue;
+        for (int c = 0; c < 3; c++)
+            acc[c] += px[c];
+        acc[3] += 1;
+    }
+    if (sk[3] < 1 || sp[3] < 1)
+        return 0;
+    for (int c = 0; c < 3; c++) {
+        skin[c] = sk[c] / sk[3];
+        spot[c] = sp[c] / sp[3];
+    }
+    return 1;
+}
+
 /* The autocorrelation of y (weights w) for shifts dx in [-DX, DX], dy in [0, DY]: the sum
  * of products over the valid pairs, over their count, over the same at shift 0; A is
  * (DY + 1) rows of 2 DX + 1. Returns 0, or -1 when out of memory. */
@@ -245,6 +297,8 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
     if (!y || !w || !A)
         goto done;
     const double skew = highpass(strip, valid, y, w);
+    double skin[3] = {0}, spot[3] = {0};
+    const int coloured = strip_colours(strip, y, w, skew, skin, spot);
     if (autocorrelation(y, w, L, A) != 0)
         goto done;
     /* per count round the body: the best score over spacings and offsets, read at the
@@ -287,6 +341,9 @@ int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading
                 best[nx] = (SqSpotsReading){.across = nx, .spacing = cy, .offset = o,
                                             .view_scale = cy * tile_rows(nx, o) * SQ_FIT_BAND_WIDTH / W,
                                             .score = top, .skew = skew};
+                best[nx].coloured = coloured;
+                memcpy(best[nx].skin, skin, sizeof skin);
+                memcpy(best[nx].spot, spot, sizeof spot);
                 break;
             }
         }

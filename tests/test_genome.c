@@ -390,8 +390,9 @@ static void draws_are_plausible(void **state)
 
 /* Spot lattices of the thesis' Table 4.4 (its spots moved about by 0 to 0.2 of a cell),
  * seen in a strip, are read back: the count round the body exactly, the view scale from
- * the rows' spacing within 8%, best first, not at a multiple of the spacing; a flat strip
- * and no strip give none. */
+ * the rows' spacing within 8%, best first, not at a multiple of the spacing, the skin's and
+ * the spots' colours within 0.1 and 0.15 (small spots blur); a flat strip and no strip give
+ * none. */
 static void spot_lattices_read_off_their_strip(void **state)
 {
     (void)state;
@@ -426,6 +427,14 @@ static void spot_lattices_read_off_their_strip(void **state)
         assert_int_equal(rd[0].across, nx);
         assert_true(fabs(view / cases[c].view - 1) < 0.08);
         assert_true(rd[0].skew > 0); /* yellow spots on black */
+        /* the colours: the spots' own and the skin's, each near the preset's */
+        printf("    skin %.2f %.2f %.2f, spots %.2f %.2f %.2f\n", rd[0].skin[0], rd[0].skin[1], rd[0].skin[2],
+               rd[0].spot[0], rd[0].spot[1], rd[0].spot[2]);
+        assert_true(rd[0].coloured);
+        for (int k = 0; k < 3; k++) {
+            assert_true(fabs(rd[0].skin[k] - p.Background_Color[k]) < 0.1);
+            assert_true(fabs(rd[0].spot[k] - p.Spots_Color[k]) < 0.15); /* small spots blur */
+        }
         for (int i = 1; i < n; i++) {
             assert_true(rd[i].score <= rd[i - 1].score);
             assert_true(rd[i].across != rd[0].across);

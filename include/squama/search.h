@@ -199,6 +199,11 @@ typedef struct SqSpotsReading {
                         * grid) */
     double score;   /* the lattice's autocorrelation less its midpoints' (0 to 2) */
     double skew;    /* the strip's lightness' skewness (< 0: the pattern darker than the skin) */
+    int coloured;   /* 1: skin and spot hold the strip's colours */
+    double skin[3]; /* sRGB: the mean colour of the strip's middle 40% by lightness (less its
+                     * columns' means and its trend along) */
+    double spot[3]; /* and of its 2% farthest the skew's way: the spots' cores (the
+                     * palette blends small spots with the skin around them) */
 } SqSpotsReading;
 
 /* Spot lattices that match a photo's strip (SQ_FIT_STRIP_W wide and at least twice as
