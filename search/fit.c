@@ -501,9 +501,9 @@ static int read_candidates(Fit *f, SqFitCandidate *c)
  * and the spots coloured as the strip's middle lightness and its 2% farthest the skew's
  * way (the palette blends small spots with the skin around them: coloured from it, row
  * 18's read candidates scored 3 to 10 on the palette objective, the truth 0.9). A spots
- * niche searched from random draws settles on imitations
- * (the scales' lattice at another view scale) while the truth's basin is narrow: a tenth
- * more tiling, or spots a third narrower, double or triple the spectral objectives
+ * niche searched from random draws settles on imitations (the scales' lattice at
+ * another view scale) while the truth's basin is narrow: a tenth more tiling, or spots
+ * a third narrower, double or triple the spectral objectives
  * (docs/recovery.md, sessions 20 and 21). Used only when the best lattice scores
  * SPOT_READ_MIN or better: on the recovery benchmark's 38 photos, plain skins read 0.3 at
  * most (their scales' lattice; a clean render up to 0.77), five of the six spot photos

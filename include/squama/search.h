@@ -240,7 +240,7 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     contrast, the two warps) and Has_Outline are each at their default (none) half the
  *     time (search/draw.c); automata and spot lattices read off the photo's strip
  *     (sq_fit_read_automata, sq_fit_read_spots) start more, at the view scale read
- *     with them, when the best reading is strong;
+ *     with them, when the best reading is strong (spots in the colours read with them);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
  *     candidate; a spots niche starts from a lattice read when there is one, and
