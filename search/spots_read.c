@@ -165,7 +165,8 @@ static int strip_colours(const SqImage *s, const double *y, const double *w, dou
         return 0;
     }
     qsort(v, n, sizeof *v, cmp_dbl);
-    const double s_lo = v[(size_t)((0.5 - SKIN_SHARE / 2) * (double)n)], s_hi = v[(size_t)((0.5 + SKIN_SHARE / 2) * (double)n)];
+    const double s_lo = v[(size_t)((0.5 - SKIN_SHARE / 2) * (double)n)];
+    const double s_hi = v[(size_t)((0.5 + SKIN_SHARE / 2) * (double)n)];
     const double cut = skew < 0 ? v[(size_t)(SPOT_SHARE * (double)n)] : v[(size_t)((1 - SPOT_SHARE) * (double)n)];
     free(v);
     double sk[4] = {0}, sp[4] = {0};
