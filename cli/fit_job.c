@@ -234,6 +234,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     static const char *const stages[SQ_FIT_STAGES] = {"screen", "evolve", "rescore", "polish"};
     for (int i = 0; i < SQ_FIT_STAGES; i++)
         cJSON_AddNumberToObject(ti, stages[i], r->seconds[i]);
+    cJSON_AddNumberToObject(ti, "layer", r->layer_seconds); /* between the re-scoring and the polish */
     cJSON_AddNumberToObject(ti, "total", total_s);
     cJSON_AddItemToObject(root, "objectives", objectives_json(r->best.obj));
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
@@ -246,7 +247,10 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "or transversal, then spots, then other_simple, then layered, then complex), being the simpler "
                             "explanation; a pattern nobody can see (visibility below 0.02: the share of the "
                             "band's texels more than 5 CIEDE2000 from its dominant colour) is a plain skin, and "
-                            "the champion becomes its plain twin, unless the twin scores more than 5% worse");
+                            "the champion becomes its plain twin, unless the twin scores more than 5% worse; a "
+                            "stripe, band or spot champion (an automaton champion: the best of those) is given "
+                            "a layer of another type, searched with it held, and the layered skin leads when it "
+                            "beats the champion by 20% (layer_search; when layered skins are asked for)");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);
@@ -265,6 +269,15 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON_AddItemToObject(sr, "view_scale", sq__json_exact_number(r->spots_read_view_scale));
         cJSON_AddItemToObject(sr, "score", sq__json_exact_number(r->spots_read_score));
         cJSON_AddBoolToObject(sr, "held", r->spots_held);
+    }
+    if (r->layer_searched) {
+        cJSON *ls = cJSON_AddObjectToObject(root, "layer_search");
+        cJSON_AddStringToObject(ls, "base", sq_pattern_type_name(r->layer_base));
+        cJSON_AddStringToObject(ls, "layer", sq_pattern_type_name(r->layer_kind));
+        cJSON_AddNumberToObject(ls, "evaluations", (double)r->layer_evals);
+        cJSON_AddItemToObject(ls, "score", sq__json_exact_number(r->layer_score));
+        cJSON_AddItemToObject(ls, "champion_score", sq__json_exact_number(r->layer_under));
+        cJSON_AddBoolToObject(ls, "leads", r->layer_lead);
     }
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));

@@ -174,6 +174,14 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             : r->spots_held    ? "the lattices read started the spots' screening, and the spots niche searched the one "
                                  "its best started from"
                                : "the lattices read started the spots' screening");
+    if (r->layer_searched)
+        cli_buf_put(&b, "<p>A layer of %s was searched over the best %s skin (%ld evaluations): the layered skin "
+                "re-scored %.3f against the champion's %.3f, %s.</p>\n",
+            sq_pattern_type_name(r->layer_kind), sq_pattern_type_name(r->layer_base), r->layer_evals, r->layer_score,
+            r->layer_under,
+            r->layer_lead ? "better by more than 20%: it leads"
+                          : "not the 20% better a layered skin must be to lead (one pattern with a layer's freedom "
+                            "gains up to that)");
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))
@@ -183,6 +191,8 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             cli_buf_put(&b, "to the end");
         else if (r->dropped_at[c] > 0)
             cli_buf_put(&b, "dropped after %ld evaluations, judged %.3f", r->dropped_at[c], r->judged[c]);
+        else if (c == SQ_FIT_LAYERED && r->layer_searched)
+            cli_buf_put(&b, "a layer over the champion");
         cli_buf_put(&b, "</td></tr>\n");
     }
     cli_buf_put(&b, "</table>\n<h2>Convergence and the Pareto front</h2>\n<div class='plots'>\n");
@@ -200,9 +210,9 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             cli_buf_put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
         cli_buf_put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
     }
-    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, polish %.1f s. "
+    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, layer %.1f s, polish %.1f s. "
             "All numbers are in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
-        r->seconds[0], r->seconds[1], r->seconds[2], r->seconds[3]);
+        r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3]);
     if (b.fail) {
         free(b.s);
         return sq_error_set(err, SQ_ERR_NOMEM, "report.html", "out of memory");

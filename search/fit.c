@@ -754,6 +754,31 @@ static int hold_spot_lattice(const Fit *f, Niche *z, const SqFitCandidate *start
     return 1;
 }
 
+/* A CMA-ES over n genes of the unit box from x0, for a noisy objective: a population a
+ * little larger than the default, IPOP restarts from anywhere in the box. */
+static SqStatus noisy_cmaes(Fit *f, int n, const double *x0, const int *levels, SqCmaes **es, SqError *err)
+{
+    double lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
+    for (int i = 0; i < n; i++) {
+        lo[i] = 0;
+        hi[i] = 1;
+    }
+    SqCmaesConfig c = sq_cmaes_config_default(n);
+    c.x0 = x0;
+    c.lower = lo;
+    c.upper = hi;
+    c.levels = levels;
+    c.sigma0 = 0.15;
+    c.lambda = 4 + (int)floor(3 * log((double)n)) + 4; /* the default, and a little more for the noise */
+    c.seed = sq__rng_next(&f->rng);
+    c.init_lower = lo;
+    c.init_upper = hi;
+    c.restarts = 4;
+    c.tolfun = 1e-4;
+    c.tolx = 1e-4;
+    return sq_cmaes_new(&c, es, err);
+}
+
 static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate *screened, int ns,
                            SqError *err)
 {
@@ -780,30 +805,13 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
     z->view_hi = VIEW_HI;
     if (category == SQ_PATTERN_SPOTS)
         f->r->spots_held = hold_spot_lattice(f, z, start);
-    double x0[SQ_GENOME_MAX + 1], lo[SQ_GENOME_MAX + 1], hi[SQ_GENOME_MAX + 1];
+    double x0[SQ_GENOME_MAX + 1];
     int levels[SQ_GENOME_MAX + 1];
     sq_genome_encode(&z->g, &start->params, x0);
     x0[z->g.n] = view_to_x_in(start->view_scale, z->view_lo, z->view_hi);
     sq_genome_levels(&z->g, levels);
     levels[z->g.n] = 0;
-    for (int i = 0; i < z->n; i++) {
-        lo[i] = 0;
-        hi[i] = 1;
-    }
-    SqCmaesConfig c = sq_cmaes_config_default(z->n);
-    c.x0 = x0;
-    c.lower = lo;
-    c.upper = hi;
-    c.levels = levels;
-    c.sigma0 = 0.15;
-    c.lambda = 4 + (int)floor(3 * log((double)z->n)) + 4; /* a little more for the noise */
-    c.seed = sq__rng_next(&f->rng);
-    c.init_lower = lo;
-    c.init_upper = hi;
-    c.restarts = 4;
-    c.tolfun = 1e-4;
-    c.tolx = 1e-4;
-    st = sq_cmaes_new(&c, &z->es, err);
+    st = noisy_cmaes(f, z->n, x0, levels, &z->es, err);
     if (st != SQ_OK)
         return st;
     z->gp_rng = sq__rng_next(&f->rng);
@@ -1280,8 +1288,9 @@ static void polish(Fit *f, SqFitCandidate *champ)
         lo[i] = 0;
         hi[i] = 1;
     }
-    /* an evaluation budget: what the re-scoring left, less the final re-score */
-    long evals = f->o.max_evals > 0 ? f->o.max_evals - f->evals - f->o.reseeds : 100000;
+    /* an evaluation budget: what the re-scoring left, less the final re-score and the plain
+     * twin's (plain_twin) */
+    long evals = f->o.max_evals > 0 ? f->o.max_evals - f->evals - 2L * f->o.reseeds : 100000;
     if (evals < 10)
         return;
     p.opt = nlopt_create(NLOPT_LN_SBPLX, (unsigned)p.n);
@@ -1309,6 +1318,175 @@ static void polish(Fit *f, SqFitCandidate *champ)
         *champ = c;
         f->r->polish_kept = 1;
     }
+}
+
+/* ---- a layer over the champion ---- */
+
+/* When layered skins are asked for, the layered niche searches a pair drawn at random
+ * while screening, and a layered photo was often fitted as one of its parts: its base
+ * alone, or an automaton imitating both. So a stripe, band or spot champion is given
+ * one layer of another type with the champion itself held: the patterns of the other
+ * types' finalists and of their LAYER_STARTS best screened candidates are tried as its
+ * layer, and a CMA-ES moves the best one's layer genes and the view scale (within
+ * LAYER_VIEW) for LAYER_SHARE of the evaluations the re-scoring left (the polish has the
+ * rest). An automaton champion is not a base (an automaton with a layer's freedom beat
+ * the automaton of its own photo by 41%): the best stripe, band or spot finalist is
+ * layered instead. The layered skin leads, re-scored, when it beats the champion by
+ * LAYER_LEAD: a layer's extra freedom gains a single pattern up to 19% (docs/recovery.md,
+ * session 22). Not by default: there a layered skin beat a single pattern by more than
+ * that as often as it found a layered photo (docs/recovery.md, session 23). */
+enum { LAYER_STARTS = 8 };
+static const double LAYER_SHARE = 0.5, LAYER_LEAD = 0.2, LAYER_VIEW = 1.05;
+
+/* c with src's pattern as its one layer, blended normally at full opacity. */
+static SqFitCandidate layered_over(const SqFitCandidate *c, const SqFitCandidate *src)
+{
+    SqFitCandidate t = *c;
+    SqPatternLayer *l = &t.params.Pattern_Layers.layer[0];
+    sq_pattern_layer_default(l);
+    l->spec = src->params.pattern;
+    t.params.Pattern_Layers.count = 1;
+    return t;
+}
+
+/* Whether the layer stage may use another evaluation generation of n: within its share of
+ * the evaluations (end) and of the time (deadline, seconds since the start). */
+static int layer_room(const Fit *f, long end, double deadline, int n)
+{
+    if (f->o.stop && *f->o.stop)
+        return 0;
+    if (f->o.max_evals > 0 && f->evals + n > end)
+        return 0;
+    return !(f->o.budget > 0 && elapsed(f) >= deadline);
+}
+
+static void layer_search(Fit *f, const SqFitCandidate *fin, int nfin, const SqFitCandidate *screened, int ns)
+{
+    SqFitResult *r = f->r;
+    const SqFitCandidate champ = r->best;
+    const int ck = sq_fit_kind_of(&champ.params);
+    const SqFitCandidate *under = NULL; /* the base */
+    if (ck == SQ_PATTERN_LONGITUDINAL || ck == SQ_PATTERN_TRANSVERSAL || ck == SQ_PATTERN_SPOTS)
+        under = &champ;
+    else if (ck == SQ_PATTERN_OTHER_SIMPLE) /* an automaton imitates the others, and under a layer both */
+        for (int i = 0; i < nfin; i++) {
+            const int k = sq_fit_kind_of(&fin[i].params);
+            if ((k == SQ_PATTERN_LONGITUDINAL || k == SQ_PATTERN_TRANSVERSAL || k == SQ_PATTERN_SPOTS) &&
+                isfinite(fin[i].score) && (!under || fin[i].score < under->score))
+                under = &fin[i];
+        }
+    if (!under)
+        return;
+    const int base = under->params.Pattern_Type;
+    const long left = f->o.max_evals > 0 ? f->o.max_evals - f->evals - 2L * f->o.reseeds : 0;
+    const long end = f->evals + (long)(LAYER_SHARE * (double)left);
+    const double deadline = elapsed(f) + LAYER_SHARE * (f->o.budget - elapsed(f));
+    SqFitCandidate *c = malloc(sizeof *c * (size_t)(nfin + ns));
+    if (!c)
+        return;
+    int m = 0;
+    for (int t = 0; t < SQ_PATTERN_COUNT; t++) {
+        if (!sq_genome_layerable(base, t))
+            continue;
+        for (int i = 0; i < nfin; i++)
+            if (sq_fit_kind_of(&fin[i].params) == t)
+                c[m++] = layered_over(under, &fin[i]);
+        for (int i = 0, k = 0; i < ns && k < LAYER_STARTS; i++) /* screened is sorted by score */
+            if (sq_fit_kind_of(&screened[i].params) == t) {
+                c[m++] = layered_over(under, &screened[i]);
+                k++;
+            }
+    }
+    const long e0 = f->evals;
+    if (m == 0 || !layer_room(f, end, deadline, m)) {
+        free(c);
+        return;
+    }
+    for (int i = 0; i < m; i++)
+        c[i].params.Seed = 1;
+    evaluate_all(f, c, m, f->o.coarse_size, 0);
+    int b = 0;
+    for (int i = 0; i < m; i++) {
+        score_of(f, &c[i]);
+        if (c[i].score < c[b].score)
+            b = i;
+    }
+    SqFitCandidate best = c[b];
+    free(c);
+    SqGenome g;
+    int idx[SQ_GENOME_MAX + 1], levels[SQ_GENOME_MAX + 1], n = 0;
+    double x[SQ_GENOME_MAX + 1], x0[SQ_GENOME_MAX + 1];
+    SqCmaes *es = NULL;
+    if (isfinite(best.score) && sq_genome_of(&g, &best.params, NULL) == SQ_OK) {
+        /* the layer's genes and the view scale; the base's are held */
+        const double vlo = under->view_scale / LAYER_VIEW, vhi = under->view_scale * LAYER_VIEW;
+        sq_genome_encode(&g, &best.params, x);
+        for (int i = 0; i < g.n; i++)
+            if (g.genes[i].layer >= 0) {
+                idx[n] = i;
+                levels[n] = g.genes[i].levels;
+                x0[n++] = x[i];
+            }
+        idx[n] = g.n;
+        levels[n] = 0;
+        x0[n++] = view_to_x_in(best.view_scale, vlo, vhi);
+        if (noisy_cmaes(f, n, x0, levels, &es, NULL) != SQ_OK)
+            es = NULL;
+        while (es && layer_room(f, end, deadline, sq_cmaes_lambda(es))) {
+            const int l = sq_cmaes_lambda(es);
+            const double *X = sq_cmaes_ask(es);
+            SqFitCandidate *k = malloc(sizeof *k * (size_t)l);
+            double *fv = malloc(sizeof(double) * (size_t)l);
+            if (!k || !fv) {
+                free(k);
+                free(fv);
+                break;
+            }
+            const int seed = (int)(sq__rng_next(&f->rng) & 0x7fffffff); /* common random numbers */
+            for (int j = 0; j < l; j++) {
+                SqParams p = best.params;
+                for (int i = 0; i + 1 < n; i++)
+                    x[idx[i]] = X[(size_t)j * n + i];
+                sq_genome_decode(&g, x, &p);
+                k[j] = *under; /* the base exactly as it was: only the layer is taken */
+                k[j].params.Pattern_Layers = p.Pattern_Layers;
+                k[j].params.Seed = seed;
+                k[j].view_scale = x_to_view_in(X[(size_t)j * n + n - 1], vlo, vhi);
+            }
+            evaluate_all(f, k, l, f->o.coarse_size, 0);
+            for (int j = 0; j < l; j++) {
+                score_of(f, &k[j]);
+                fv[j] = isfinite(k[j].score) ? k[j].score : NAN;
+                if (k[j].score < best.score)
+                    best = k[j];
+            }
+            sq_cmaes_tell(es, fv);
+            note_best(f, k, l);
+            free(k);
+            free(fv);
+            f->generation++;
+            report(f, "layer", SQ_FIT_LAYERED);
+        }
+        sq_cmaes_free(es);
+    }
+    rescore(f, &best, 1);
+    r->layer_searched = 1;
+    r->layer_evals = f->evals - e0;
+    r->layer_score = best.score;
+    r->layer_under = champ.score;
+    r->layer_base = base;
+    r->layer_kind = best.params.Pattern_Layers.layer[0].spec.Pattern_Type;
+    r->category_score[SQ_FIT_LAYERED] = fmin(r->category_score[SQ_FIT_LAYERED], best.score);
+    if (!(best.score * (1 + LAYER_LEAD) < champ.score))
+        return;
+    SqFitCandidate *grown = realloc(r->front, sizeof *grown * (size_t)(r->nfront + 1));
+    if (!grown)
+        return;
+    r->front = grown;
+    memmove(r->front + 1, r->front, sizeof *r->front * (size_t)r->nfront);
+    r->nfront = r->nfront + 1 < f->o.front_max ? r->nfront + 1 : f->o.front_max;
+    r->front[0] = r->best = best;
+    r->layer_lead = 1;
 }
 
 /* ---- baselines: one optimiser on the scalar score of the best category ---- */
@@ -1643,6 +1821,11 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     plain_of_the_best_pattern(&f);
     out->seconds[2] = now() - t;
     report(&f, "rescore", sq_fit_kind_of(&out->best.params));
+    if (o->method == SQ_FIT_SQUAMA && !out->stopped && fitted(o, SQ_FIT_LAYERED)) {
+        t = now();
+        layer_search(&f, fin, nfin, screened, nscreened);
+        out->layer_seconds = now() - t;
+    }
     if (o->polish && o->method == SQ_FIT_SQUAMA && !out->stopped) {
         t = now();
         polish(&f, &out->best);

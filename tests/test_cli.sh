@@ -220,6 +220,12 @@ assert all(x["category"] in f["niches"] and x["judged"] > 0 for x in d), d
 assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
 assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html and "at the fitted view scale" in html
+assert "layer" in s["seconds"]
+l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
+if l is not None:
+    assert l["layer"] != l["base"] and l["evaluations"] > 0, l
+    assert l["leads"] == (l["score"] * 1.2 < l["champion_score"]), l
+    assert "A layer of " + l["layer"] in html
 PY
 fi
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json

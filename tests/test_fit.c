@@ -71,6 +71,31 @@ static void assert_plain_rule(const SqFitResult *r)
     }
 }
 
+/* The layer over the champion, when layered skins are asked for: searched over a stripe,
+ * band or spot champion (over an automaton champion, the best of those finalists), within
+ * its share of the evaluation budget, and leading exactly when it beats the champion by
+ * 20%. */
+static void assert_layer_rule(const SqFitResult *r, const SqFitOptions *o)
+{
+    assert_true(r->evals <= o->max_evals); /* the polish still had its room after it */
+    if (!r->layer_searched)
+        return;
+    assert_true(sq_genome_layerable(r->layer_base, r->layer_kind));
+    assert_true(r->layer_base == SQ_PATTERN_LONGITUDINAL || r->layer_base == SQ_PATTERN_TRANSVERSAL ||
+                r->layer_base == SQ_PATTERN_SPOTS);
+    assert_true(r->layer_evals > 0 && r->layer_evals <= o->max_evals / 2);
+    assert_true(isfinite(r->layer_score) && isfinite(r->layer_under));
+    assert_int_equal(r->layer_lead, r->layer_score * 1.2 < r->layer_under);
+    assert_true(r->category_score[SQ_FIT_LAYERED] <= r->layer_score);
+    if (r->layer_lead) { /* then polished: the polish keeps the kind */
+        assert_int_equal(r->best.params.Pattern_Type, r->layer_base);
+        assert_int_equal(r->best.params.Pattern_Layers.count, 1);
+        assert_int_equal(r->best.params.Pattern_Layers.layer[0].spec.Pattern_Type, r->layer_kind);
+        assert_memory_equal(&r->front[0].params, &r->best.params, sizeof r->best.params);
+        assert_int_equal(sq_params_validate(&r->best.params, NULL), SQ_OK);
+    }
+}
+
 static void recovers_category(void **state)
 {
     (void)state;
@@ -283,12 +308,14 @@ static void categories_fitted(void **state)
         assert_true(isfinite(r.category_score[c]));
         assert_true(r.niche[c]);
     }
+    assert_layer_rule(&r, &o);
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
     sq_fit_result_free(&r);
-    o.categories = 0; /* the default: the six categories, no layered skins */
+    o.categories = 0; /* the default: the six categories, no layered niche */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
+    assert_false(r.layer_searched); /* nor a layer over the champion */
     assert_int_equal(r.best.params.Pattern_Layers.count, 0);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
@@ -370,6 +397,43 @@ static void a_spot_lattice_read_is_searched(void **state)
     assert_false(r.spots_held);
     sq_fit_result_free(&r);
     sq_image_free(&strip);
+}
+
+/* A photo of the thesis' stripes over a layer of red spots, fitted with layered skins
+ * asked for: a layer searched over the champion explains it better than the champion
+ * alone (here it leads: stripes under spots, the photo's own parts). */
+static void a_layer_is_searched_over_the_champion(void **state)
+{
+    (void)state;
+    SKIP_WHEN_SANITIZED();
+    char path[4096];
+    SqParams p, s;
+    SqError err;
+    SqFeatures layered;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), &p, NULL,
+                                    &err),
+                     SQ_OK);
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &s, NULL, &err),
+                     SQ_OK);
+    SqPatternLayer *l = &p.Pattern_Layers.layer[0];
+    sq_pattern_layer_default(l);
+    l->spec = s.pattern;
+    const double red[4] = {0.8, 0.1, 0.05, 1};
+    memcpy(l->spec.Spots_Color, red, sizeof red);
+    p.Pattern_Layers.count = 1;
+    assert_int_equal(features_of(&p, &layered), 0);
+    SqFitOptions o = small(2);
+    o.categories |= 1u << SQ_FIT_LAYERED; /* asked for: a layered niche, and the layer over the champion */
+    o.max_evals = 1000;
+    SqFitResult r;
+    assert_int_equal(sq_fit_run(&layered, &o, &r, &err), SQ_OK);
+    printf("  champion %s %.3f; a layer of %s over it %.3f (%ld evaluations)%s; best %s, %ld evaluations\n",
+           sq_pattern_type_name(r.layer_base), r.layer_under, sq_pattern_type_name(r.layer_kind), r.layer_score,
+           r.layer_evals, r.layer_lead ? ", leads" : "", sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.evals);
+    assert_true(r.layer_searched);
+    assert_layer_rule(&r, &o);
+    assert_true(r.layer_score < r.layer_under);
+    sq_fit_result_free(&r);
 }
 
 static void same_result_on_any_thread_count(void **state)
@@ -459,6 +523,7 @@ int main(void)
         cmocka_unit_test(an_invisible_pattern_is_a_plain_skin),
         cmocka_unit_test(a_faint_pattern_the_objectives_see_stays),
         cmocka_unit_test(a_spot_lattice_read_is_searched),
+        cmocka_unit_test(a_layer_is_searched_over_the_champion),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

@@ -254,7 +254,12 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     over several seeds at the fine size; the champion picked from the re-scored front
  *     (see SqFitResult.norm; a plain skin within 30% of the best is preferred, as the best
  *     pattern's plain twin when that scores better; else the simplest kind within 5%: plain,
- *     stripes or bands, spots, automata, layered, reaction-diffusion); the champion polished by
+ *     stripes or bands, spots, automata, layered, reaction-diffusion); a stripe, band or
+ *     spot champion (an automaton champion: the best of those finalists) given one layer of
+ *     another type, searched with the base held (its start the best of the other kinds'
+ *     finalists and best screened candidates as a layer, then a CMA-ES on the layer's
+ *     genes for half of the evaluations left), the layered skin leading when it beats the
+ *     champion by 20% (only when layered skins are asked for); the champion polished by
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
  *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
  *     unless the twin scores more than 5% worse.
@@ -268,9 +273,11 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  * searches the pair of its best screened candidate). */
 enum { SQ_FIT_LAYERED = SQ_PATTERN_COUNT, SQ_FIT_KINDS };
 
-/* The kinds a fit searches unless told otherwise: the six categories. Layered skins only
- * on request (SqFitOptions.categories): in the recovery benchmark they won on photos of
- * stripes, spots and reaction-diffusion, as impostors, more often than anything else. */
+/* The kinds a fit screens and evolves unless told otherwise: the six categories. Layered
+ * skins as a niche only on request (SqFitOptions.categories): in the recovery benchmark
+ * they won on photos of stripes, spots and reaction-diffusion, as impostors, more often
+ * than anything else; so did a layer searched over the champion (stage 3 above), which
+ * runs when the layered kind is asked for too. */
 #define SQ_FIT_DEFAULT_KINDS ((1u << SQ_PATTERN_COUNT) - 1u)
 #define SQ_FIT_ALL_KINDS ((1u << SQ_FIT_KINDS) - 1u)
 
@@ -296,7 +303,7 @@ typedef struct SqFitCandidate {
 } SqFitCandidate;
 
 typedef struct SqFitProgress {
-    const char *stage;       /* "screen", "evolve", "rescore", "polish" */
+    const char *stage;       /* "screen", "evolve", "rescore", "layer", "polish" */
     int generation;
     long evals;
     double elapsed, budget;  /* seconds (budget 0: none) */
@@ -375,6 +382,15 @@ typedef struct SqFitResult {
     int spots_read_across;   /* the best lattice's spots round the body (0: none read) */
     double spots_read_view_scale, spots_read_score; /* its view scale and score */
     int spots_held;          /* 1: the spots niche searched a lattice read (started from it) */
+    int layer_searched;      /* 1: a layer was searched over the champion when it is
+                                stripes, bands or spots, or over the best of those finalists
+                                when it is an automaton (layered skins asked for) */
+    long layer_evals;        /* the evaluations it took */
+    double layer_seconds;    /* and the time */
+    double layer_score;      /* the layered skin's re-scored score */
+    double layer_under;      /* the champion's score, which it had to beat */
+    int layer_base, layer_kind; /* its base's and its layer's pattern types */
+    int layer_lead;          /* 1: it beat the champion by 20% and leads the front */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
