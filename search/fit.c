@@ -1364,21 +1364,25 @@ static int layer_room(const Fit *f, long end, double deadline, int n)
     return !(f->o.budget > 0 && elapsed(f) >= deadline);
 }
 
+/* Whether a kind can be the base of the layer search: stripes, bands or spots. */
+static int layer_base(int kind)
+{
+    return kind == SQ_PATTERN_LONGITUDINAL || kind == SQ_PATTERN_TRANSVERSAL || kind == SQ_PATTERN_SPOTS;
+}
+
 static void layer_search(Fit *f, const SqFitCandidate *fin, int nfin, const SqFitCandidate *screened, int ns)
 {
     SqFitResult *r = f->r;
     const SqFitCandidate champ = r->best;
     const int ck = sq_fit_kind_of(&champ.params);
     const SqFitCandidate *under = NULL; /* the base */
-    if (ck == SQ_PATTERN_LONGITUDINAL || ck == SQ_PATTERN_TRANSVERSAL || ck == SQ_PATTERN_SPOTS)
+    if (layer_base(ck))
         under = &champ;
     else if (ck == SQ_PATTERN_OTHER_SIMPLE) /* an automaton imitates the others, and under a layer both */
-        for (int i = 0; i < nfin; i++) {
-            const int k = sq_fit_kind_of(&fin[i].params);
-            if ((k == SQ_PATTERN_LONGITUDINAL || k == SQ_PATTERN_TRANSVERSAL || k == SQ_PATTERN_SPOTS) &&
-                isfinite(fin[i].score) && (!under || fin[i].score < under->score))
+        for (int i = 0; i < nfin; i++)
+            if (layer_base(sq_fit_kind_of(&fin[i].params)) && isfinite(fin[i].score) &&
+                (!under || fin[i].score < under->score))
                 under = &fin[i];
-        }
     if (!under)
         return;
     const int base = under->params.Pattern_Type;
