@@ -56,7 +56,7 @@ static const char help[] =
     "                       transversal, spots, other_simple, complex (reaction-diffusion),\n"
     "                       layered (a pattern under a layer of another: a niche, and a\n"
     "                       layer searched over the champion), or all; default the six\n"
-    "                       categories (layered skins only on request)\n"
+    "                       categories and a layer over the champion (no layered niche)\n"
     "      --work-size N    longest side the photo is prepared at (default 1024)\n"
     "  -q, --quiet          no progress and no summary\n"
     "      --json           progress as JSON lines on stdout, then a summary object\n"

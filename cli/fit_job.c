@@ -250,7 +250,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "the champion becomes its plain twin, unless the twin scores more than 5% worse; a "
                             "stripe, band or spot champion (an automaton champion: the best of those) is given "
                             "a layer of another type, searched with it held, and the layered skin leads when it "
-                            "beats the champion by 20% (layer_search; when layered skins are asked for)");
+                            "beats the champion by 20% and its layer is visible (it changes at least 5% of the "
+                            "band's texels by more than 5 CIEDE2000; layer_search)");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);
@@ -277,6 +278,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON_AddNumberToObject(ls, "evaluations", (double)r->layer_evals);
         cJSON_AddItemToObject(ls, "score", sq__json_exact_number(r->layer_score));
         cJSON_AddItemToObject(ls, "champion_score", sq__json_exact_number(r->layer_under));
+        if (r->layer_visibility >= 0)
+            cJSON_AddItemToObject(ls, "visibility", sq__json_exact_number(r->layer_visibility));
         cJSON_AddBoolToObject(ls, "leads", r->layer_lead);
     }
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));

@@ -174,14 +174,19 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             : r->spots_held    ? "the lattices read started the spots' screening, and the spots niche searched the one "
                                  "its best started from"
                                : "the lattices read started the spots' screening");
-    if (r->layer_searched)
+    if (r->layer_searched) {
         cli_buf_put(&b, "<p>A layer of %s was searched over the best %s skin (%ld evaluations): the layered skin "
-                "re-scored %.3f against the champion's %.3f, %s.</p>\n",
+                "re-scored %.3f against the champion's %.3f, ",
             sq_pattern_type_name(r->layer_kind), sq_pattern_type_name(r->layer_base), r->layer_evals, r->layer_score,
-            r->layer_under,
-            r->layer_lead ? "better by more than 20%: it leads"
-                          : "not the 20% better a layered skin must be to lead (one pattern with a layer's freedom "
+            r->layer_under);
+        if (r->layer_visibility >= 0)
+            cli_buf_put(&b, "better by more than 20%%, and its layer changes %.1f%% of the band by more than 5 CIEDE2000%s",
+                100 * r->layer_visibility, r->layer_lead ? ": it leads" : ", under the 5% a visible layer must: it does not lead");
+        else
+            cli_buf_put(&b, "not the 20%% better a layered skin must be to lead (one pattern with a layer's freedom "
                             "gains up to that)");
+        cli_buf_put(&b, ".</p>\n");
+    }
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         if (!isfinite(r->category_score[c]))

@@ -224,7 +224,9 @@ assert "layer" in s["seconds"]
 l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
 if l is not None:
     assert l["layer"] != l["base"] and l["evaluations"] > 0, l
-    assert l["leads"] == (l["score"] * 1.2 < l["champion_score"]), l
+    better = l["score"] * 1.2 < l["champion_score"]
+    assert ("visibility" in l) == better, l  # measured only past the 20%
+    assert l["leads"] == (better and l["visibility"] >= 0.05), l
     assert "A layer of " + l["layer"] in html
 PY
 fi

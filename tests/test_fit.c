@@ -74,7 +74,7 @@ static void assert_plain_rule(const SqFitResult *r)
 /* The layer over the champion, when layered skins are asked for: searched over a stripe,
  * band or spot champion (over an automaton champion, the best of those finalists), within
  * its share of the evaluation budget, and leading exactly when it beats the champion by
- * 20%. */
+ * 20% and its layer changes 5% of the band. */
 static void assert_layer_rule(const SqFitResult *r, const SqFitOptions *o)
 {
     assert_true(r->evals <= o->max_evals); /* the polish still had its room after it */
@@ -85,7 +85,10 @@ static void assert_layer_rule(const SqFitResult *r, const SqFitOptions *o)
                 r->layer_base == SQ_PATTERN_SPOTS);
     assert_true(r->layer_evals > 0 && r->layer_evals <= o->max_evals / 2);
     assert_true(isfinite(r->layer_score) && isfinite(r->layer_under));
-    assert_int_equal(r->layer_lead, r->layer_score * 1.2 < r->layer_under);
+    const int better = r->layer_score * 1.2 < r->layer_under;
+    assert_int_equal(r->layer_visibility >= 0, better); /* measured only past the 20% */
+    assert_true(r->layer_visibility <= 1);
+    assert_int_equal(r->layer_lead, better && r->layer_visibility >= 0.05);
     assert_true(r->category_score[SQ_FIT_LAYERED] <= r->layer_score);
     if (r->layer_lead) { /* then polished: the polish keeps the kind */
         assert_int_equal(r->best.params.Pattern_Type, r->layer_base);
@@ -217,6 +220,48 @@ static void visibility_measures_what_shows(void **state)
         assert_true(fabs(dom[c] - p.Background_Color[c]) < 0.02);
 }
 
+/* The thesis' stripes (*p) and spots (*s); *p given the spots, red, as its one layer, not
+ * yet counted (Pattern_Layers.count stays 0). */
+static SqPatternLayer *red_spots_over_stripes(SqParams *p, SqParams *s)
+{
+    char path[4096];
+    SqError err;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), p, NULL,
+                                    &err),
+                     SQ_OK);
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), s, NULL, &err),
+                     SQ_OK);
+    SqPatternLayer *l = &p->Pattern_Layers.layer[0];
+    sq_pattern_layer_default(l);
+    l->spec = s->pattern;
+    const double red[4] = {0.8, 0.1, 0.05, 1};
+    memcpy(l->spec.Spots_Color, red, sizeof red);
+    return l;
+}
+
+/* Layer visibility: red spots over the thesis' stripes show, about as much as the spots do
+ * over their own ground; at opacity 0.03 they do not; no layer, or opacity 0, changes nothing. */
+static void layer_visibility_measures_what_the_layer_changes(void **state)
+{
+    (void)state;
+    SqParams p, s;
+    SqError err;
+    SqPatternLayer *l = red_spots_over_stripes(&p, &s);
+    assert_true(sq_fit_layer_visibility(&p, 128, 0.5, &err) == 0);
+    p.Pattern_Layers.count = 1;
+    const double v = sq_fit_layer_visibility(&p, 128, 0.5, &err);
+    const double spots = sq_fit_pattern_visibility(&s, 128, 0.5, (double[3]){0}, &err);
+    printf("  red spots over stripes %.3f (the spots alone over their ground %.3f)\n", v, spots);
+    assert_true(v > 0.05 && v <= 1);
+    assert_true(v > 0.5 * spots && v < 2 * spots); /* about the spots' own coverage */
+    l->Layer_Opacity = 0.03;
+    const double faint = sq_fit_layer_visibility(&p, 128, 0.5, &err);
+    printf("  at opacity 0.03 %.3f\n", faint);
+    assert_true(faint >= 0 && faint < 0.05);
+    l->Layer_Opacity = 0;
+    assert_true(sq_fit_layer_visibility(&p, 128, 0.5, &err) == 0);
+}
+
 /* Spots are all a fit may use on a plain skin. Started from spots in the skin's own colour
  * (so that the best spots are invisible, whatever else the search finds), the champion is
  * their plain twin, the spots kept behind it. */
@@ -311,12 +356,12 @@ static void categories_fitted(void **state)
     assert_layer_rule(&r, &o);
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
     sq_fit_result_free(&r);
-    o.categories = 0; /* the default: the six categories, no layered niche */
+    o.categories = 0; /* the default: the six categories, no layered niche, but a layer over the champion */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
-    assert_false(r.layer_searched); /* nor a layer over the champion */
-    assert_int_equal(r.best.params.Pattern_Layers.count, 0);
+    assert_layer_rule(&r, &o);
+    assert_int_equal(r.best.params.Pattern_Layers.count, r.layer_lead);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
@@ -326,8 +371,9 @@ static void categories_fitted(void **state)
     for (int i = 0; i < r.nfront; i++)
         assert_int_equal(sq_fit_kind_of(&r.front[i].params), SQ_FIT_LAYERED);
     sq_fit_result_free(&r);
-    o.categories = 1u << SQ_PATTERN_NONE | 1u << SQ_PATTERN_SPOTS;
+    o.categories = 1u << SQ_PATTERN_NONE | 1u << SQ_PATTERN_SPOTS; /* named, without layered: no layer */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
+    assert_false(r.layer_searched);
     for (int c = 0; c < SQ_PATTERN_COUNT; c++)
         assert_int_equal(isfinite(r.category_score[c]) != 0, c == SQ_PATTERN_NONE || c == SQ_PATTERN_SPOTS);
     assert_true(r.best.params.Pattern_Type == SQ_PATTERN_NONE || r.best.params.Pattern_Type == SQ_PATTERN_SPOTS);
@@ -406,20 +452,10 @@ static void a_layer_is_searched_over_the_champion(void **state)
 {
     (void)state;
     SKIP_WHEN_SANITIZED();
-    char path[4096];
     SqParams p, s;
     SqError err;
     SqFeatures layered;
-    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), &p, NULL,
-                                    &err),
-                     SQ_OK);
-    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &s, NULL, &err),
-                     SQ_OK);
-    SqPatternLayer *l = &p.Pattern_Layers.layer[0];
-    sq_pattern_layer_default(l);
-    l->spec = s.pattern;
-    const double red[4] = {0.8, 0.1, 0.05, 1};
-    memcpy(l->spec.Spots_Color, red, sizeof red);
+    red_spots_over_stripes(&p, &s);
     p.Pattern_Layers.count = 1;
     assert_int_equal(features_of(&p, &layered), 0);
     SqFitOptions o = small(2);
@@ -524,6 +560,7 @@ int main(void)
         cmocka_unit_test(a_faint_pattern_the_objectives_see_stays),
         cmocka_unit_test(a_spot_lattice_read_is_searched),
         cmocka_unit_test(a_layer_is_searched_over_the_champion),
+        cmocka_unit_test(layer_visibility_measures_what_the_layer_changes),
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),

@@ -259,7 +259,8 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     another type, searched with the base held (its start the best of the other kinds'
  *     finalists and best screened candidates as a layer, then a CMA-ES on the layer's
  *     genes for half of the evaluations left), the layered skin leading when it beats the
- *     champion by 20% (only when layered skins are asked for); the champion polished by
+ *     champion by 20% and its layer is visible (sq_fit_layer_visibility: it changes 5% of
+ *     the band; by default, and whenever the layered kind is fitted); the champion polished by
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
  *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
  *     unless the twin scores more than 5% worse.
@@ -276,8 +277,8 @@ enum { SQ_FIT_LAYERED = SQ_PATTERN_COUNT, SQ_FIT_KINDS };
 /* The kinds a fit screens and evolves unless told otherwise: the six categories. Layered
  * skins as a niche only on request (SqFitOptions.categories): in the recovery benchmark
  * they won on photos of stripes, spots and reaction-diffusion, as impostors, more often
- * than anything else; so did a layer searched over the champion (stage 3 above), which
- * runs when the layered kind is asked for too. */
+ * than anything else. A layer searched over the champion (stage 3 above) runs by default
+ * and whenever the layered kind is asked for; it leads only past its two tests. */
 #define SQ_FIT_DEFAULT_KINDS ((1u << SQ_PATTERN_COUNT) - 1u)
 #define SQ_FIT_ALL_KINDS ((1u << SQ_FIT_KINDS) - 1u)
 
@@ -384,13 +385,16 @@ typedef struct SqFitResult {
     int spots_held;          /* 1: the spots niche searched a lattice read (started from it) */
     int layer_searched;      /* 1: a layer was searched over the champion when it is
                                 stripes, bands or spots, or over the best of those finalists
-                                when it is an automaton (layered skins asked for) */
+                                when it is an automaton (by default, or with the layered kind
+                                asked for) */
     long layer_evals;        /* the evaluations it took */
     double layer_seconds;    /* and the time */
     double layer_score;      /* the layered skin's re-scored score */
     double layer_under;      /* the champion's score, which it had to beat */
     int layer_base, layer_kind; /* its base's and its layer's pattern types */
-    int layer_lead;          /* 1: it beat the champion by 20% and leads the front */
+    double layer_visibility; /* when it beat the champion by 20%: how visible its layer is
+                                (sq_fit_layer_visibility); else -1, not measured */
+    int layer_lead;          /* 1: it beat the champion by 20%, its layer visible, and leads */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
@@ -402,6 +406,12 @@ SqFitOptions sq_fit_options_default(void);
  * plain. dominant (sRGB) receives the band's per-channel median colour. -1 on error. */
 double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre, double dominant[3],
                                  SqError *err);
+
+/* How visible p's layers are over its base: the share of texels, in the band of the base
+ * colour map (size x size) centred on u = band_centre, where p and p without its layers
+ * differ by more than a CIEDE2000 of 5. The fit's layered skin leads only when at least
+ * 0.05 (as a layered preset of squama seed must). -1 on error. */
+double sq_fit_layer_visibility(const SqParams *p, int size, double band_centre, SqError *err);
 
 /* Fits the generator to a target. On error nothing is allocated in out. */
 SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err);
