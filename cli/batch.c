@@ -16,41 +16,7 @@
 #include "cli.h"
 #include "json_util.h"
 #include "squama/io.h"
-
-enum { THUMB = 160 }; /* the thumbnails' longest side */
-
-/* src shrunk (box filter) to at most THUMB pixels a side, written as PNG to dst. */
-static SqStatus thumbnail(const char *src, const char *dst, SqError *err)
-{
-    SqImage img, t;
-    SqStatus st = sq_io_read_image(src, NULL, &img, NULL, err);
-    if (st != SQ_OK)
-        return st;
-    int big = img.width > img.height ? img.width : img.height;
-    int f = (big + THUMB - 1) / THUMB;
-    if (f < 1)
-        f = 1;
-    int w = (img.width + f - 1) / f, h = (img.height + f - 1) / f;
-    if (sq_image_alloc(&t, w, h, 3, img.space) != 0) {
-        sq_image_free(&img);
-        return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
-    }
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            double sum[3] = {0};
-            int n = 0;
-            for (int yy = y * f; yy < (y + 1) * f && yy < img.height; yy++)
-                for (int xx = x * f; xx < (x + 1) * f && xx < img.width; xx++, n++)
-                    for (int c = 0; c < 3; c++)
-                        sum[c] += sq_image_at(&img, xx, yy)[c];
-            for (int c = 0; c < 3; c++)
-                sq_image_at(&t, x, y)[c] = (float)(sum[c] / n);
-        }
-    sq_image_free(&img);
-    st = sq_io_write_image(dst, &t, NULL, err);
-    sq_image_free(&t);
-    return st;
-}
+#include "thumb.h"
 
 /* FNV-1a (64 bits) of a file's bytes as 16 hex digits, "" when it cannot be read: a row
  * is known by its photo's and mask's contents, not by how their paths were spelled. */
@@ -69,6 +35,16 @@ static void file_digest(const char *path, char out[BATCH_DIGEST])
     if (!ferror(fp))
         snprintf(out, BATCH_DIGEST, "%016llx", (unsigned long long)h);
     fclose(fp);
+}
+
+/* DIR/thumb_strips.png from DIR's strip.png and fitted_strip.png. */
+static SqStatus strips_thumbnail(const char *dir, SqError *err)
+{
+    char strip[4200], fitted[4200], dst[4200];
+    snprintf(strip, sizeof strip, "%s/strip.png", dir);
+    snprintf(fitted, sizeof fitted, "%s/fitted_strip.png", dir);
+    snprintf(dst, sizeof dst, "%s/thumb_strips.png", dir);
+    return cli_thumbnail_strips(strip, fitted, dst, err);
 }
 
 void batch_settings(const CliFitJob *job, char *out, size_t n)
@@ -166,6 +142,11 @@ int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out)
     if (ok) {
         *out = d->r;
         out->row = i;
+        struct stat sb; /* a row of an older squama: its strips' thumbnail made now */
+        char strips[4200];
+        snprintf(strips, sizeof strips, "%s/thumb_strips.png", dir);
+        if (out->status == BATCH_OK && stat(strips, &sb) != 0)
+            strips_thumbnail(dir, NULL);
     }
     free(d);
     return ok;
@@ -204,14 +185,19 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     if (st == SQ_OK)
         st = cli_fit_job_run(&job, &fit, &err);
     if (st == SQ_OK) {
-        static const char *const thumbs[][2] = {
-            {"photo.jpg", "thumb_photo.png"}, {"basecolor.png", "thumb_texture.png"}, {"preview.png", "thumb_preview.png"}};
+        /* the photo with what the mask leaves out dimmed, the textures, the strips */
+        static const char *const thumbs[][3] = {{"photo.jpg", "mask.png", "thumb_photo.png"},
+                                                {"basecolor.png", NULL, "thumb_texture.png"},
+                                                {"preview.png", NULL, "thumb_preview.png"}};
         for (size_t k = 0; k < sizeof thumbs / sizeof thumbs[0] && st == SQ_OK; k++) {
-            char src[4200], dst[4200];
+            char src[4200], mask[4200], dst[4200];
             snprintf(src, sizeof src, "%s/%s", tmp, thumbs[k][0]);
-            snprintf(dst, sizeof dst, "%s/%s", tmp, thumbs[k][1]);
-            st = thumbnail(src, dst, &err);
+            snprintf(mask, sizeof mask, "%s/%s", tmp, thumbs[k][1] ? thumbs[k][1] : "");
+            snprintf(dst, sizeof dst, "%s/%s", tmp, thumbs[k][2]);
+            st = cli_thumbnail(src, thumbs[k][1] ? mask : NULL, dst, &err);
         }
+        if (st == SQ_OK)
+            st = strips_thumbnail(tmp, &err);
     }
     if (st == SQ_OK) {
         out->status = BATCH_OK;

@@ -153,7 +153,8 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
     cli_buf_put(&b, "<button data-f='error'>errors</button> by <label><input type='radio' name='by' value='fitted' "
                     "checked> fitted</label> <label><input type='radio' name='by' value='expected'> expected</label> "
                     "category</p>\n<table id='rows'><tr><th>id</th><th>species</th><th>expected</th><th>fitted</th>"
-                    "<th>score</th><th>photo</th><th>fitted texture</th><th>preview</th><th>note</th></tr>\n");
+                    "<th>score</th><th>photo (the mask's outside dimmed)</th><th>strip: photo above, fit below</th>"
+                    "<th>fitted texture</th><th>preview</th><th>note</th></tr>\n");
     for (int i = 0; i < n; i++) {
         const BatchResult *r = &res[i];
         if (r->status == BATCH_PENDING)
@@ -173,9 +174,10 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
         cli_buf_put(&b, "</i></td><td>%s</td><td>%s</td>", cat_name(rows[i].expected), ok ? cat_name(r->fitted) : "");
         if (ok) {
             cli_buf_put(&b, "<td class='n'>%.3f</td>", r->score);
-            static const char *const th[] = {"thumb_photo.png", "thumb_texture.png", "thumb_preview.png"};
-            static const char *const full[] = {"photo.jpg", "basecolor.png", "preview.png"};
-            for (int k = 0; k < 3; k++) {
+            static const char *const th[] = {"thumb_photo.png", "thumb_strips.png", "thumb_texture.png",
+                                             "thumb_preview.png"};
+            static const char *const full[] = {"photo.jpg", "report.html", "basecolor.png", "preview.png"};
+            for (int k = 0; k < 4; k++) {
                 cli_buf_put(&b, "<td><a href='");
                 cli_buf_html(&b, id);
                 cli_buf_put(&b, "/%s'><img loading='lazy' src='", full[k]);
@@ -185,7 +187,7 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
             cli_buf_put(&b, "<td>%s</td></tr>\n",
                         rows[i].expected >= 0 && rows[i].expected != r->fitted ? "category differs" : "");
         } else {
-            cli_buf_put(&b, "<td></td><td colspan='3'></td><td>");
+            cli_buf_put(&b, "<td></td><td colspan='4'></td><td>");
             cli_buf_html(&b, r->error);
             cli_buf_put(&b, "</td></tr>\n");
         }
