@@ -185,7 +185,7 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     if (st == SQ_OK)
         st = cli_fit_job_run(&job, &fit, &err);
     if (st == SQ_OK) {
-        /* the photo with what the mask leaves out dimmed, the textures, the strips */
+        /* the photo with what the mask leaves out veiled, the textures, the strips */
         static const char *const thumbs[][3] = {{"photo.jpg", "mask.png", "thumb_photo.png"},
                                                 {"basecolor.png", NULL, "thumb_texture.png"},
                                                 {"preview.png", NULL, "thumb_preview.png"}};

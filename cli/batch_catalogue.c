@@ -153,7 +153,7 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
     cli_buf_put(&b, "<button data-f='error'>errors</button> by <label><input type='radio' name='by' value='fitted' "
                     "checked> fitted</label> <label><input type='radio' name='by' value='expected'> expected</label> "
                     "category</p>\n<table id='rows'><tr><th>id</th><th>species</th><th>expected</th><th>fitted</th>"
-                    "<th>score</th><th>photo (the mask's outside dimmed)</th><th>strip: photo above, fit below</th>"
+                    "<th>score</th><th>photo (outside the mask veiled blue)</th><th>strip: photo above, fit below</th>"
                     "<th>fitted texture</th><th>preview</th><th>note</th></tr>\n");
     for (int i = 0; i < n; i++) {
         const BatchResult *r = &res[i];

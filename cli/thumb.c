@@ -1,7 +1,7 @@
 /* squama batch's thumbnails (see thumb.h). */
 #include <stdlib.h>
+#include <string.h>
 
-#include "squama/image.h"
 #include "squama/io.h"
 #include "thumb.h"
 
@@ -14,6 +14,47 @@ static double box_mean(const SqImage *img, int x, int y, int f, int c)
         for (int xx = x * f; xx < (x + 1) * f && xx < img->width; xx++, n++)
             sum += sq_image_at(img, xx, yy)[c < img->channels ? c : 0];
     return n ? sum / n : 0;
+}
+
+int cli_thumb_shrink(const SqImage *img, const SqImage *mask, int side, SqImage *out)
+{
+    const int big = img->width > img->height ? img->width : img->height;
+    const int f = big > side ? (big + side - 1) / side : 1;
+    const int w = (img->width + f - 1) / f, h = (img->height + f - 1) / f;
+    if (sq_image_alloc(out, w, h, 3, img->space) != 0)
+        return -1;
+    static const double veil[3] = CLI_THUMB_VEIL;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const double in = mask ? box_mean(mask, x, y, f, 0) : 1, k = in < 0 ? 0 : in > 1 ? 1 : in;
+            for (int c = 0; c < 3; c++) {
+                const double px = box_mean(img, x, y, f, c);
+                sq_image_at(out, x, y)[c] =
+                    (float)(k * px + (1 - k) * (CLI_THUMB_KEEP * px + (1 - CLI_THUMB_KEEP) * veil[c]));
+            }
+        }
+    return 0;
+}
+
+int cli_thumb_turned(const SqImage *strip, int side, SqImage *out)
+{
+    const int along = strip->height, across = strip->width;
+    const int f = along > side ? (along + side - 1) / side : 1;
+    const int w = (along + f - 1) / f, h = (across + f - 1) / f;
+    if (sq_image_alloc(out, w, h, 3, strip->space) != 0)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < 3; c++) /* (x, y) is the strip's box at (y, x) */
+                sq_image_at(out, x, y)[c] = (float)box_mean(strip, y, x, f, c);
+    return 0;
+}
+
+void cli_thumb_paste(SqImage *dst, const SqImage *src, int x0, int y0)
+{
+    for (int y = 0; y < src->height && y0 + y < dst->height; y++)
+        for (int x = 0; x < src->width && x0 + x < dst->width; x++)
+            memcpy(sq_image_at(dst, x0 + x, y0 + y), sq_image_at(src, x, y), 3 * sizeof(float));
 }
 
 static SqStatus write_free(const char *dst, SqImage *t, SqError *err)
@@ -33,36 +74,19 @@ SqStatus cli_thumbnail(const char *src, const char *mask, const char *dst, SqErr
         sq_image_free(&img);
         return st;
     }
-    if (mask && (m.width != img.width || m.height != img.height)) {
+    if (mask && (m.width != img.width || m.height != img.height))
         st = sq_error_set(err, SQ_ERR_INVALID, mask, "the mask is %dx%d but the photo is %dx%d", m.width, m.height,
                           img.width, img.height);
-        sq_image_free(&img);
-        sq_image_free(&m);
-        return st;
-    }
-    const int big = img.width > img.height ? img.width : img.height;
-    const int f = big > CLI_THUMB ? (big + CLI_THUMB - 1) / CLI_THUMB : 1;
-    const int w = (img.width + f - 1) / f, h = (img.height + f - 1) / f;
-    if (sq_image_alloc(&t, w, h, 3, img.space) != 0) {
-        sq_image_free(&img);
-        sq_image_free(&m);
-        return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
-    }
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            const double in = mask ? box_mean(&m, x, y, f, 0) : 1;
-            const double k = CLI_THUMB_DIM + (1 - CLI_THUMB_DIM) * (in < 0 ? 0 : in > 1 ? 1 : in);
-            for (int c = 0; c < 3; c++)
-                sq_image_at(&t, x, y)[c] = (float)(k * box_mean(&img, x, y, f, c));
-        }
+    else if (cli_thumb_shrink(&img, mask ? &m : NULL, CLI_THUMB, &t) != 0)
+        st = sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
     sq_image_free(&img);
     sq_image_free(&m);
-    return write_free(dst, &t, err);
+    return st == SQ_OK ? write_free(dst, &t, err) : st;
 }
 
 SqStatus cli_thumbnail_strips(const char *strip, const char *fitted, const char *dst, SqError *err)
 {
-    SqImage s[2];
+    SqImage s[2], r[2] = {{0}}, t = {0};
     SqStatus st = sq_io_read_image(strip, NULL, &s[0], NULL, err);
     if (st != SQ_OK)
         return st;
@@ -70,31 +94,26 @@ SqStatus cli_thumbnail_strips(const char *strip, const char *fitted, const char 
         sq_image_free(&s[0]);
         return st;
     }
-    if (s[0].width != s[1].width || s[0].height != s[1].height) {
+    enum { GAP = 2 };
+    if (s[0].width != s[1].width || s[0].height != s[1].height)
         st = sq_error_set(err, SQ_ERR_INVALID, fitted, "the fitted strip is %dx%d but the photo's is %dx%d",
                           s[1].width, s[1].height, s[0].width, s[0].height);
-        sq_image_free(&s[0]);
-        sq_image_free(&s[1]);
+    else if (cli_thumb_turned(&s[0], CLI_THUMB, &r[0]) != 0 || cli_thumb_turned(&s[1], CLI_THUMB, &r[1]) != 0 ||
+             sq_image_alloc(&t, r[0].width, 2 * r[0].height + GAP, 3, s[0].space) != 0)
+        st = sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
+    if (st == SQ_OK) {
+        for (size_t i = 0; i < (size_t)t.width * t.height * 3; i++)
+            t.px[i] = 1;
+        cli_thumb_paste(&t, &r[0], 0, 0);
+        cli_thumb_paste(&t, &r[1], 0, r[0].height + GAP);
+    }
+    for (int k = 0; k < 2; k++) {
+        sq_image_free(&s[k]);
+        sq_image_free(&r[k]);
+    }
+    if (st != SQ_OK) {
+        sq_image_free(&t);
         return st;
     }
-    /* turned: the strip's rows (along the body) become columns */
-    const int along = s[0].height, across = s[0].width;
-    const int f = along > CLI_THUMB ? (along + CLI_THUMB - 1) / CLI_THUMB : 1;
-    const int w = (along + f - 1) / f, h1 = (across + f - 1) / f, gap = 2;
-    SqImage t;
-    if (sq_image_alloc(&t, w, 2 * h1 + gap, 3, s[0].space) != 0) {
-        sq_image_free(&s[0]);
-        sq_image_free(&s[1]);
-        return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
-    }
-    for (int i = 0; i < t.width * t.height * 3; i++)
-        t.px[i] = 1;
-    for (int k = 0; k < 2; k++)
-        for (int y = 0; y < h1; y++)
-            for (int x = 0; x < w; x++)
-                for (int c = 0; c < 3; c++) /* thumbnail (x, y) is the strip's box at (y, x) */
-                    sq_image_at(&t, x, k * (h1 + gap) + y)[c] = (float)box_mean(&s[k], y, x, f, c);
-    sq_image_free(&s[0]);
-    sq_image_free(&s[1]);
     return write_free(dst, &t, err);
 }

@@ -1,4 +1,4 @@
-/* squama batch's thumbnails (cli/thumb.c): the photo with the mask's outside dimmed, and
+/* squama batch's thumbnails (cli/thumb.c): the photo with the mask's outside veiled, and
  * the two strips turned to run across. */
 #include "sq_test.h"
 
@@ -34,7 +34,7 @@ static void assert_near(const float *px, double r, double g, double b)
         fail_msg("pixel (%.3f %.3f %.3f), expected (%.3f %.3f %.3f)", px[0], px[1], px[2], r, g, b);
 }
 
-static void the_photo_thumbnail_dims_what_the_mask_leaves_out(void **state)
+static void the_photo_thumbnail_veils_what_the_mask_leaves_out(void **state)
 {
     (void)state;
     char photo[4096], mask[4096], thumb[4096], small[4096];
@@ -48,9 +48,10 @@ static void the_photo_thumbnail_dims_what_the_mask_leaves_out(void **state)
     assert_int_equal(t.width, CLI_THUMB);
     assert_int_equal(t.height, 100);
     assert_near(sq_image_at(&t, 10, 50), 1, 0, 0);                 /* inside: as it was */
-    assert_near(sq_image_at(&t, 150, 50), 0, 0, CLI_THUMB_DIM);    /* outside: dimmed */
+    const double veil[3] = CLI_THUMB_VEIL, keep = CLI_THUMB_KEEP; /* outside: veiled */
+    assert_near(sq_image_at(&t, 150, 50), (1 - keep) * veil[0], (1 - keep) * veil[1], keep + (1 - keep) * veil[2]);
     sq_image_free(&t);
-    /* without a mask, nothing dimmed */
+    /* without a mask, nothing veiled */
     assert_int_equal(cli_thumbnail(photo, NULL, thumb, &err), SQ_OK);
     read_back(thumb, &t);
     assert_near(sq_image_at(&t, 150, 50), 0, 0, 1);
@@ -107,7 +108,7 @@ static void the_strips_run_across_photo_above_fit_below(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(the_photo_thumbnail_dims_what_the_mask_leaves_out),
+        cmocka_unit_test(the_photo_thumbnail_veils_what_the_mask_leaves_out),
         cmocka_unit_test(the_strips_run_across_photo_above_fit_below),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
