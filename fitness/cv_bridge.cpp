@@ -44,6 +44,16 @@ extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint
     }
 }
 
+/* GrabCut from the labels in m (GC_*), seeded; the foreground into mask (0/255). */
+static void grabcut_labels(const cv::Mat &img, cv::Mat &m, uint8_t *mask)
+{
+    cv::Mat bgd, fgd;
+    cv::setRNGSeed(GRABCUT_SEED);
+    cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+    for (int i = 0; i < m.rows * m.cols; i++)
+        mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
+}
+
 extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask)
 {
     try {
@@ -60,15 +70,12 @@ extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *m
         uchar hi = v[v.size() * 5 / 6];
         std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
         uchar lo = v[v.size() / 2];
-        cv::Mat m(h, w, CV_8UC1), bgd, fgd;
-        for (int i = 0; i < w * h; i++)
-            m.data[i] = sal8.data[i] >= hi ? cv::GC_PR_FGD : (sal8.data[i] <= lo ? cv::GC_BGD : cv::GC_PR_BGD);
         if (hi <= lo)
             return -1;
-        cv::setRNGSeed(GRABCUT_SEED);
-        cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+        cv::Mat m(h, w, CV_8UC1);
         for (int i = 0; i < w * h; i++)
-            mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
+            m.data[i] = sal8.data[i] >= hi ? cv::GC_PR_FGD : (sal8.data[i] <= lo ? cv::GC_BGD : cv::GC_PR_BGD);
+        grabcut_labels(img, m, mask);
         return 0;
     } catch (...) {
         return -1;
@@ -130,10 +137,18 @@ extern "C" int sq__cv_distance(const uint8_t *mask, int w, int h, float *dist)
 extern "C" int sq__cv_thin(const uint8_t *mask, int w, int h, uint8_t *skeleton)
 {
     try {
+        /* thinned within the mask's bounding box and a pixel of margin: each pass of the
+         * thinning visits every pixel it is given, and the skeleton cannot leave the box */
         cv::Mat m(h, w, CV_8UC1, const_cast<uint8_t *>(mask)), s;
-        cv::ximgproc::thinning(m, s, cv::ximgproc::THINNING_ZHANGSUEN);
-        std::memcpy(skeleton, s.data, (size_t)w * h);
-        return 0;
+        cv::Mat out(h, w, CV_8UC1, skeleton);
+        out.setTo(0);
+        cv::Rect box = cv::boundingRect(m);
+        if (box.area() == 0)
+            return 0;
+        box = (box + cv::Size(2, 2) - cv::Point(1, 1)) & cv::Rect(0, 0, w, h);
+        cv::ximgproc::thinning(m(box), s, cv::ximgproc::THINNING_ZHANGSUEN);
+        s.copyTo(out(box));
+        return out.data == skeleton ? 0 : -1;
     } catch (...) {
         return -1;
     }
