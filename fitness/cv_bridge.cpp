@@ -44,16 +44,6 @@ extern "C" int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint
     }
 }
 
-/* GrabCut from the labels in m (GC_*), seeded; the foreground into mask (0/255). */
-static void grabcut_labels(const cv::Mat &img, cv::Mat &m, uint8_t *mask)
-{
-    cv::Mat bgd, fgd;
-    cv::setRNGSeed(GRABCUT_SEED);
-    cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
-    for (int i = 0; i < m.rows * m.cols; i++)
-        mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
-}
-
 extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask)
 {
     try {
@@ -72,10 +62,13 @@ extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *m
         uchar lo = v[v.size() / 2];
         if (hi <= lo)
             return -1;
-        cv::Mat m(h, w, CV_8UC1);
+        cv::Mat m(h, w, CV_8UC1), bgd, fgd;
         for (int i = 0; i < w * h; i++)
             m.data[i] = sal8.data[i] >= hi ? cv::GC_PR_FGD : (sal8.data[i] <= lo ? cv::GC_BGD : cv::GC_PR_BGD);
-        grabcut_labels(img, m, mask);
+        cv::setRNGSeed(GRABCUT_SEED);
+        cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+        for (int i = 0; i < w * h; i++)
+            mask[i] = (m.data[i] == cv::GC_FGD || m.data[i] == cv::GC_PR_FGD) ? 255 : 0;
         return 0;
     } catch (...) {
         return -1;

@@ -1042,6 +1042,27 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The share of a's band texels more than VISIBLE_DE from the same texel of b (a render of
+ * the same size), or from lab when b is NULL. */
+static double band_share_apart(const SqImage *a, const SqImage *b, const double lab[3], double band_centre)
+{
+    const int w = a->width, h = a->height;
+    const int x0 = (int)floor((band_centre - SQ_FIT_BAND_WIDTH / 2) * w);
+    const int nx = (int)ceil(SQ_FIT_BAND_WIDTH * w);
+    size_t seen = 0;
+    for (int y = 0; y < h; y++)
+        for (int i = 0; i < nx; i++) {
+            const size_t x = (size_t)(((x0 + i) % w + w) % w);
+            float la[3], lb[3] = {0};
+            sq_fit_srgb_to_lab(a->px + ((size_t)y * w + x) * a->channels, la);
+            if (b)
+                sq_fit_srgb_to_lab(b->px + ((size_t)y * w + x) * b->channels, lb);
+            const double da[3] = {la[0], la[1], la[2]}, db[3] = {lb[0], lb[1], lb[2]};
+            seen += sq_fit_ciede2000(da, b ? db : lab) > VISIBLE_DE;
+        }
+    return (double)seen / ((double)nx * (double)h);
+}
+
 /* The visibility of one base colour map's band and its dominant (per-channel median) colour. */
 static double band_visibility(const SqImage *im, double band_centre, double dominant[3])
 {
@@ -1068,36 +1089,7 @@ static double band_visibility(const SqImage *im, double band_centre, double domi
     float lm[3];
     sq_fit_srgb_to_lab(med, lm);
     const double m[3] = {lm[0], lm[1], lm[2]};
-    size_t seen = 0;
-    for (int y = 0; y < h; y++)
-        for (int i = 0; i < nx; i++) {
-            int x = ((x0 + i) % w + w) % w;
-            float l[3];
-            sq_fit_srgb_to_lab(im->px + ((size_t)y * w + x) * ch, l);
-            const double d[3] = {l[0], l[1], l[2]};
-            seen += sq_fit_ciede2000(d, m) > VISIBLE_DE;
-        }
-    return (double)seen / (double)n;
-}
-
-/* The share of the band's texels where two renders of the same size differ by more than
- * VISIBLE_DE. */
-static double band_change(const SqImage *a, const SqImage *b, double band_centre)
-{
-    const int w = a->width, h = a->height;
-    const int x0 = (int)floor((band_centre - SQ_FIT_BAND_WIDTH / 2) * w);
-    const int nx = (int)ceil(SQ_FIT_BAND_WIDTH * w);
-    size_t seen = 0;
-    for (int y = 0; y < h; y++)
-        for (int i = 0; i < nx; i++) {
-            const size_t x = (size_t)(((x0 + i) % w + w) % w);
-            float la[3], lb[3];
-            sq_fit_srgb_to_lab(a->px + ((size_t)y * w + x) * a->channels, la);
-            sq_fit_srgb_to_lab(b->px + ((size_t)y * w + x) * b->channels, lb);
-            const double da[3] = {la[0], la[1], la[2]}, db[3] = {lb[0], lb[1], lb[2]};
-            seen += sq_fit_ciede2000(da, db) > VISIBLE_DE;
-        }
-    return (double)seen / ((double)nx * (double)h);
+    return band_share_apart(im, NULL, m, band_centre);
 }
 
 double sq_fit_layer_visibility(const SqParams *p, int size, double band_centre, SqError *err)
@@ -1109,7 +1101,7 @@ double sq_fit_layer_visibility(const SqParams *p, int size, double band_centre, 
     SqTextures tp = {0}, tb = {0};
     double v = -1;
     if (sq_gen_render(p, &go, &tp, err) == SQ_OK && sq_gen_render(&base, &go, &tb, err) == SQ_OK)
-        v = band_change(&tp.basecolor, &tb.basecolor, band_centre);
+        v = band_share_apart(&tp.basecolor, &tb.basecolor, NULL, band_centre);
     sq_gen_textures_free(&tp);
     sq_gen_textures_free(&tb);
     return v;
