@@ -57,7 +57,8 @@ void batch_settings(const CliFitJob *job, char *out, size_t n)
 /* DIR/<id>/done.json: the row and its outcome, everything the catalogue needs, and what
  * tells a later run whether it still stands (the inputs' digests, the fit's settings). */
 static SqStatus write_done(const char *dir, const Batch *b, const CliManifestRow *row, const BatchResult *r,
-                           const char *photo_digest, const char *mask_digest, SqError *err)
+                           const char *photo_digest, const char *mask_digest, const char *line_digest,
+                           SqError *err)
 {
     char settings[sizeof ((BatchDone *)0)->settings];
     batch_settings(&b->job, settings, sizeof settings);
@@ -68,10 +69,14 @@ static SqStatus write_done(const char *dir, const Batch *b, const CliManifestRow
     cJSON_AddStringToObject(root, "photo", row->photo ? row->photo : "");
     if (row->mask)
         cJSON_AddStringToObject(root, "mask", row->mask);
+    if (row->body_line)
+        cJSON_AddStringToObject(root, "body_line", row->body_line);
     if (photo_digest[0])
         cJSON_AddStringToObject(root, "photo_digest", photo_digest);
     if (mask_digest[0])
         cJSON_AddStringToObject(root, "mask_digest", mask_digest);
+    if (line_digest[0])
+        cJSON_AddStringToObject(root, "line_digest", line_digest);
     cJSON_AddStringToObject(root, "settings", settings);
     cJSON_AddStringToObject(root, "species", row->species);
     if (row->expected >= 0)
@@ -114,17 +119,20 @@ int batch_load_done(const char *dir, BatchDone *d)
     return ok;
 }
 
-/* A record of row's photo and mask: by their contents, wherever they are now; by their
- * paths when it has no digest (the photo could not be read, or an older record). */
+/* A record of row's photo, mask and body line: by their contents, wherever they are now;
+ * by their paths when it has no digest (the photo could not be read, or an older record). */
 static int same_inputs(const BatchDone *d, const CliManifestRow *row)
 {
     if (!d->photo_digest[0])
         return strcmp(d->photo, row->photo ? row->photo : "") == 0 &&
-               strcmp(d->mask, row->mask ? row->mask : "") == 0;
-    char pd[BATCH_DIGEST], md[BATCH_DIGEST];
+               strcmp(d->mask, row->mask ? row->mask : "") == 0 &&
+               strcmp(d->body_line, row->body_line ? row->body_line : "") == 0;
+    char pd[BATCH_DIGEST], md[BATCH_DIGEST], ld[BATCH_DIGEST];
     file_digest(row->photo, pd);
     file_digest(row->mask, md);
-    return strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !d->mask[0];
+    file_digest(row->body_line, ld);
+    return strcmp(d->photo_digest, pd) == 0 && strcmp(d->mask_digest, md) == 0 && !row->mask == !d->mask[0] &&
+           strcmp(d->line_digest, ld) == 0 && !row->body_line == !d->body_line[0];
 }
 
 int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out)
@@ -171,12 +179,14 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     }
     if (cli_remove_tree(tmp) != 0) /* a partial row of an interrupted run */
         st = sq_error_set(&err, SQ_ERR_IO, tmp, "cannot remove the partial output: %s", strerror(errno));
-    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST];
+    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST], line_digest[BATCH_DIGEST];
     file_digest(row->photo, photo_digest); /* of what is fitted */
     file_digest(row->mask, mask_digest);
+    file_digest(row->body_line, line_digest);
     CliFitJob job = b->job;
     job.photo = row->photo;
     job.mask = row->mask;
+    job.line = row->body_line;
     job.outdir = tmp;
     job.quiet = 1;
     job.json = 0;
@@ -222,7 +232,7 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
         }
     }
     /* done.json last, then the whole folder renamed into place */
-    if (write_done(tmp, b, row, out, photo_digest, mask_digest, &err) != SQ_OK || cli_remove_tree(final) != 0 || rename(tmp, final) != 0) {
+    if (write_done(tmp, b, row, out, photo_digest, mask_digest, line_digest, &err) != SQ_OK || cli_remove_tree(final) != 0 || rename(tmp, final) != 0) {
         out->status = BATCH_ERROR;
         out->fitted = -1;
         snprintf(out->error, sizeof out->error, "cannot complete %.900s: %.100s", final,

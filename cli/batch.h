@@ -52,8 +52,8 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out);
 /* A row's DIR/<id>/done.json, read back. */
 enum { BATCH_DIGEST = 17 }; /* 16 hex digits and the terminator */
 typedef struct BatchDone {
-    char id[CLI_ID_MAX + 1], photo[4096], mask[4096], species[256];
-    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST]; /* "": not recorded */
+    char id[CLI_ID_MAX + 1], photo[4096], mask[4096], body_line[4096], species[256];
+    char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST], line_digest[BATCH_DIGEST]; /* "": not recorded */
     char settings[256];        /* the fit's settings (batch_settings) */
     int has_settings;          /* 0: an older done.json without them */
     int line, expected;        /* expected: an SqPatternType or -1 */
@@ -69,7 +69,7 @@ int batch_load_done(const char *dir, BatchDone *d);
 /* The fit settings a row's result depends on, as one line (kept in done.json). */
 void batch_settings(const CliFitJob *job, char *out, size_t n);
 
-/* Reads DIR/<id>/done.json of row i: 1 when it holds a fit of the same photo and mask
+/* Reads DIR/<id>/done.json of row i: 1 when it holds a fit of the same photo, mask and line
  * (by their contents; by their paths when it recorded no digest) with the same settings
  * (*out filled, resumed set); 0 otherwise (missing, broken, other inputs or settings, a
  * failure). A row of another shard is listed as that shard left it, failures too: matched

@@ -40,9 +40,12 @@ int batch_parse_done(const char *text, size_t len, BatchDone *d)
     const char *mask = json_str(root, "mask"), *species = json_str(root, "species");
     const char *expected = json_str(root, "expected");
     const char *pd = json_str(root, "photo_digest"), *md = json_str(root, "mask_digest");
+    const char *line_path = json_str(root, "body_line"), *ld = json_str(root, "line_digest");
     const char *settings = json_str(root, "settings");
     snprintf(d->photo_digest, sizeof d->photo_digest, "%s", pd && strlen(pd) == BATCH_DIGEST - 1 ? pd : "");
     snprintf(d->mask_digest, sizeof d->mask_digest, "%s", md && strlen(md) == BATCH_DIGEST - 1 ? md : "");
+    snprintf(d->line_digest, sizeof d->line_digest, "%s", ld && strlen(ld) == BATCH_DIGEST - 1 ? ld : "");
+    snprintf(d->body_line, sizeof d->body_line, "%s", line_path ? line_path : "");
     d->has_settings = settings != NULL;
     snprintf(d->settings, sizeof d->settings, "%s", settings ? settings : "");
     snprintf(d->mask, sizeof d->mask, "%s", mask ? mask : "");

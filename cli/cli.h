@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "squama/error.h"
+#include "squama/fitness.h"
 #include "squama/image.h"
 
 /* One command: `squama NAME ...`. */
@@ -38,10 +39,25 @@ int cli_pathf(char *buf, size_t n, const char *fmt, ...) __attribute__((format(p
  * with errno. */
 int cli_remove_tree(const char *path);
 
-/* Reads a photo and, when mask_path is set, its mask (white or opaque on the snake, the
- * photo's size) into a 1-channel image; 0, or -1 with err filled. */
-int cli_load_photo(const char *photo_path, const char *mask_path, SqImage *photo, SqImage *mask,
+/* A photo with what may be given with it: a mask and a body line. */
+typedef struct CliPhoto {
+    SqImage photo;
+    SqImage mask;      /* 1 channel, 1 on the snake; px NULL when none was given */
+    SqBodyLine line;   /* nstretches 0 when none was given */
+} CliPhoto;
+
+/* Reads a photo and, when set, its mask (white or opaque on the snake, the photo's size)
+ * and its body line (squama-body-line JSON); 0, or -1 with err filled and nothing held. */
+int cli_load_photo(const char *photo_path, const char *mask_path, const char *line_path, CliPhoto *in,
                    SqError *err);
+void cli_photo_free(CliPhoto *in);
+
+/* sq_fit_prepare with what in holds (o NULL: the defaults). */
+SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *prep, SqError *err);
+
+/* Writes dir/line.json, the centre line prep followed (to correct and give back with
+ * --line). */
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, SqError *err);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

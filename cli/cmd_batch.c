@@ -35,6 +35,7 @@ static const char help[] =
     "  id        the row's name and folder: letters, digits, '_', '-', '.' (required)\n"
     "  photo     the photo, relative to the manifest's folder (required; or 'file', 'image')\n"
     "  mask      the snake's mask (optional: else made automatically)\n"
+    "  body_line the body's centre line and width (optional; see 'squama prepare')\n"
     "  expected  the expected pattern category, for the confusion matrix (optional; or\n"
     "            'category', 'pattern_category', 'pattern_category_guess')\n"
     "  species   shown in the catalogue (optional)\n"
@@ -43,11 +44,12 @@ static const char help[] =
     "\n"
     "A row is fitted in DIR/.tmp-<id>/ and renamed to DIR/<id>/ when complete, done.json last:\n"
     "run the same command again after a crash or Ctrl-C and only the rows not done are\n"
-    "fitted: those without a done.json, those that failed, those whose photo or mask changed\n"
+    "fitted: those without a done.json, those that failed, those whose photo, mask or line changed\n"
     "(by content: moving them, or spelling the manifest's path otherwise, changes nothing) and\n"
     "those fitted with other settings (--budget, --evals, --seed, --categories, --size,\n"
     "--work-size). A done.json from before squama recorded these is matched by the paths.\n"
-    "\n"
+    "\n";
+static const char help_more[] =
     "Parallel work:\n"
     "  on one machine, each fit uses every core (OpenMP); --jobs J fits J rows at once with\n"
     "  cores/J threads each (keeps the cores busy through each fit's serial parts).\n"
@@ -314,7 +316,8 @@ static int merge(char **dirs, int ndirs, Batch *b)
         }
         for (int i = 0; i < n && rc == CLI_OK; i++) {
             rows[i] = (CliManifestRow){.line = done[i].line, .id = done[i].id, .photo = done[i].photo,
-                                       .mask = done[i].mask[0] ? done[i].mask : NULL, .species = done[i].species,
+                                       .mask = done[i].mask[0] ? done[i].mask : NULL,
+                                       .body_line = done[i].body_line[0] ? done[i].body_line : NULL, .species = done[i].species,
                                        .expected = done[i].expected};
             res[i] = done[i].r;
             res[i].row = i;
@@ -373,7 +376,10 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
         case O_MERGE: merging = 1; break;
         case 'q': b.quiet = 1; break;
         case O_JSON: b.json = 1; break;
-        case 'h': fputs(help, stdout); return CLI_OK;
+        case 'h':
+            fputs(help, stdout);
+            fputs(help_more, stdout);
+            return CLI_OK;
         default:
             if (optopt && strchr("obsj", optopt))
                 return cli_usage("batch", "-%c needs a value", optopt);

@@ -19,7 +19,7 @@
 #include "squama/preset.h"
 
 static const char help[] =
-    "usage: squama fit PHOTO -o DIR [--mask MASK] [--budget 60s] [--seed N] [options]\n"
+    "usage: squama fit PHOTO -o DIR [--mask MASK] [--line LINE] [--budget 60s] [--seed N] [options]\n"
     "\n"
     "Fits the generator to the snake in PHOTO: screens every pattern category (automata\n"
     "read off the photo's strip among them), evolves the promising ones (CMA-ES and GP,\n"
@@ -38,12 +38,15 @@ static const char help[] =
     "  basecolor.png height.png roughness.png normal.png   the best preset's maps\n"
     "  preview.png      the best preset on a snake body, at the fitted view scale\n"
     "  photo.jpg mask.png strip.png fitted_strip.png   the prepared photo and the fit's view\n"
+    "  line.json        the centre line followed (not with --line): correct it and pass it back\n"
     "  report.html      all of it side by side, with convergence and Pareto-front plots\n"
     "  checkpoint/      the front so far, for --resume\n"
     "\n"
     "options:\n"
     "  -m, --mask MASK      the snake's mask (white on the snake, the photo's size);\n"
     "                       without one a mask is made and saved as mask.png to correct\n"
+    "  -l, --line LINE      the body's centre line and width, followed as it is where no\n"
+    "                       mask can say where the body runs (see 'squama prepare')\n"
     "  -o, --output DIR     where everything goes (required)\n"
     "  -b, --budget TIME    wall time: 60s (default), 90, 2m\n"
     "      --evals N        an evaluation budget instead (deterministic for a seed)\n"
@@ -138,6 +141,7 @@ int cmd_fit(int argc, char **argv)
     static const struct option opts[] = {
         CLI_FIT_LONGOPTS,
         {"mask", required_argument, NULL, 'm'},     {"output", required_argument, NULL, 'o'},
+        {"line", required_argument, NULL, 'l'},
         {"resume", required_argument, NULL, O_RESUME}, {"method", required_argument, NULL, O_METHOD},
         {"quiet", no_argument, NULL, 'q'},          {"json", no_argument, NULL, O_JSON},
         {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
@@ -147,7 +151,7 @@ int cmd_fit(int argc, char **argv)
     int c;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:o:b:s:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "hm:l:o:b:s:j:q", opts, NULL)) != -1) {
         int taken = cli_fit_job_option(&job, c, optarg, "fit");
         if (taken >= 0) {
             if (taken != CLI_OK)
@@ -156,6 +160,7 @@ int cmd_fit(int argc, char **argv)
         }
         switch (c) {
         case 'm': job.mask = optarg; break;
+        case 'l': job.line = optarg; break;
         case 'o': job.outdir = optarg; break;
         case O_RESUME: resume = optarg; break;
         case O_METHOD: {
@@ -173,7 +178,7 @@ int cmd_fit(int argc, char **argv)
         case O_JSON: job.json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("mobsj", optopt))
+            if (optopt && strchr("mlobsj", optopt))
                 return cli_usage("fit", "-%c needs a value", optopt);
             return cli_usage("fit", "unknown option '%s'", argv[optind - 1]);
         }

@@ -18,19 +18,27 @@
 #include "squama/io.h"
 
 static const char help[] =
-    "usage: squama prepare PHOTO [--mask MASK] -o DIR [--debug]\n"
+    "usage: squama prepare PHOTO [--mask MASK] [--line LINE] -o DIR [--debug]\n"
     "\n"
     "Finds the snake in PHOTO (MASK if given: white on the snake, the photo's size; else\n"
     "the photo's alpha; else an automatic GrabCut), follows the body's centre line and\n"
     "straightens its clean stretches (between crossings) into a strip, with the light evened\n"
-    "out.\n"
+    "out. Where no mask can say where the body runs (its coils touch, the ground has its\n"
+    "colours), a body line can: LINE, a JSON file of the centre line's stretches and the\n"
+    "body's width in photo pixels, followed as it is.\n"
     "Writes DIR/mask.png (the photo's size: correct it and pass it back with --mask),\n"
-    "DIR/strip.png, DIR/prepared.json (body width, length, stretches, mask source, the light's\n"
-    "direction in the photo) and, with --debug,\n"
+    "DIR/line.json (the centre line followed, a point every half body width: correct it and\n"
+    "pass it back with --line), DIR/strip.png, DIR/prepared.json (body width, length,\n"
+    "stretches, mask source, the light's direction in the photo) and, with --debug,\n"
     "every step as an image in DIR/debug/.\n"
     "\n"
+    "The body line's form (x right, y down, from the photo's top-left corner):\n"
+    "  {\"format\": \"squama-body-line/1\", \"width\": 58,\n"
+    "   \"stretches\": [[[120, 400], [180, 352], [260, 330]], [[500, 210], [610, 190]]]}\n"
+    "\n"
     "options:\n"
-    "  -m, --mask MASK      the snake's mask\n"
+    "  -m, --mask MASK      the snake's mask (with a line: which pixels within its width are body)\n"
+    "  -l, --line LINE      the body's centre line and width\n"
     "  -o, --output DIR     where to write\n"
     "      --work-size N    longest side the photo is prepared at (default 1024)\n"
     "      --debug          save each step\n"
@@ -55,37 +63,68 @@ int cli_mkdirs(const char *path)
     return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
-int cli_load_photo(const char *photo_path, const char *mask_path, SqImage *photo, SqImage *mask,
+int cli_load_photo(const char *photo_path, const char *mask_path, const char *line_path, CliPhoto *in,
                    SqError *err)
 {
-    memset(mask, 0, sizeof *mask);
-    if (sq_io_read_image(photo_path, NULL, photo, NULL, err) != SQ_OK)
+    memset(in, 0, sizeof *in);
+    if (sq_io_read_image(photo_path, NULL, &in->photo, NULL, err) != SQ_OK)
         return -1;
     if (mask_path) {
         SqImage m;
         if (sq_io_read_image(mask_path, NULL, &m, NULL, err) != SQ_OK) {
-            sq_image_free(photo);
+            cli_photo_free(in);
             return -1;
         }
-        if (m.width != photo->width || m.height != photo->height) {
-            sq_error_set(err, SQ_ERR_INVALID, mask_path, "the mask is %dx%d but the photo is %dx%d",
-                         m.width, m.height, photo->width, photo->height);
+        if (m.width != in->photo.width || m.height != in->photo.height) {
+            sq_error_set(err, SQ_ERR_INVALID, mask_path, "the mask is %dx%d but the photo is %dx%d", m.width,
+                         m.height, in->photo.width, in->photo.height);
             sq_image_free(&m);
-            sq_image_free(photo);
+            cli_photo_free(in);
             return -1;
         }
         /* white (or opaque) marks the snake */
-        if (sq_image_alloc(mask, m.width, m.height, 1, SQ_SPACE_DATA) != 0) {
+        if (sq_image_alloc(&in->mask, m.width, m.height, 1, SQ_SPACE_DATA) != 0) {
             sq_error_set(err, SQ_ERR_NOMEM, mask_path, "out of memory");
             sq_image_free(&m);
-            sq_image_free(photo);
+            cli_photo_free(in);
             return -1;
         }
         for (size_t i = 0; i < (size_t)m.width * m.height; i++)
-            mask->px[i] = (m.px[4 * i] + m.px[4 * i + 1] + m.px[4 * i + 2]) / 3 * m.px[4 * i + 3] >= 0.5f;
+            in->mask.px[i] = (m.px[4 * i] + m.px[4 * i + 1] + m.px[4 * i + 2]) / 3 * m.px[4 * i + 3] >= 0.5f;
         sq_image_free(&m);
     }
+    if (line_path && sq_body_line_read(line_path, &in->line, err) != SQ_OK) {
+        cli_photo_free(in);
+        return -1;
+    }
     return 0;
+}
+
+void cli_photo_free(CliPhoto *in)
+{
+    sq_image_free(&in->photo);
+    sq_image_free(&in->mask);
+    sq_body_line_free(&in->line);
+}
+
+SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *prep, SqError *err)
+{
+    SqPrepOptions po = o ? *o : sq_fit_prep_options_default();
+    po.line = in->line.nstretches > 0 ? &in->line : NULL;
+    return sq_fit_prepare(&in->photo, in->mask.px ? &in->mask : NULL, &po, prep, err);
+}
+
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, SqError *err)
+{
+    char path[4096];
+    if (cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
+        return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+    SqBodyLine line;
+    SqStatus st = sq_fit_prepared_line(prep, &line, err);
+    if (st == SQ_OK)
+        st = sq_body_line_write(path, &line, err);
+    sq_body_line_free(&line);
+    return st;
 }
 
 /* Where the light comes from, in words: one of eight directions in the photo. */
@@ -105,21 +144,23 @@ int cmd_prepare(int argc, char **argv)
 {
     enum { O_WORK = 1000, O_DEBUG };
     static const struct option opts[] = {{"mask", required_argument, NULL, 'm'},
+                                         {"line", required_argument, NULL, 'l'},
                                          {"output", required_argument, NULL, 'o'},
                                          {"work-size", required_argument, NULL, O_WORK},
                                          {"debug", no_argument, NULL, O_DEBUG},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
-    const char *mask_path = NULL, *outdir = NULL;
+    const char *mask_path = NULL, *line_path = NULL, *outdir = NULL;
     int debug = 0, c;
     long v;
     SqPrepOptions po = sq_fit_prep_options_default();
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:o:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "hm:l:o:", opts, NULL)) != -1) {
         switch (c) {
         case 'm': mask_path = optarg; break;
+        case 'l': line_path = optarg; break;
         case 'o': outdir = optarg; break;
         case O_WORK:
             if (cli_parse_int("--work-size", optarg, 128, 8192, &v, &err) != 0)
@@ -129,7 +170,7 @@ int cmd_prepare(int argc, char **argv)
         case O_DEBUG: debug = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("mo", optopt))
+            if (optopt && strchr("mlo", optopt))
                 return cli_usage("prepare", "-%c needs a value", optopt);
             return cli_usage("prepare", "unknown option '%s'", argv[optind - 1]);
         }
@@ -146,11 +187,11 @@ int cmd_prepare(int argc, char **argv)
     }
     if (debug)
         po.debug_dir = dbg;
-    SqImage photo, mask;
-    if (cli_load_photo(argv[optind], mask_path, &photo, &mask, &err) != 0)
+    CliPhoto in;
+    if (cli_load_photo(argv[optind], mask_path, line_path, &in, &err) != 0)
         return cli_fail(&err);
     SqPrepared prep;
-    SqStatus st = sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err);
+    SqStatus st = cli_prepare(&in, &po, &prep, &err);
     int rc = CLI_OK;
     if (st != SQ_OK) {
         rc = cli_fail(&err);
@@ -158,9 +199,9 @@ int cmd_prepare(int argc, char **argv)
         char path[4096];
         SqImage full;
         /* the mask at the photo's size, to correct and pass back */
-        if (sq_image_alloc(&full, photo.width, photo.height, 1, SQ_SPACE_DATA) == 0) {
-            for (int y = 0; y < photo.height; y++)
-                for (int x = 0; x < photo.width; x++) {
+        if (sq_image_alloc(&full, in.photo.width, in.photo.height, 1, SQ_SPACE_DATA) == 0) {
+            for (int y = 0; y < in.photo.height; y++)
+                for (int x = 0; x < in.photo.width; x++) {
                     int mx = (int)((x + 0.5) * prep.scale), my = (int)((y + 0.5) * prep.scale);
                     mx = mx >= prep.mask.width ? prep.mask.width - 1 : mx;
                     my = my >= prep.mask.height ? prep.mask.height - 1 : my;
@@ -174,10 +215,11 @@ int cmd_prepare(int argc, char **argv)
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
-        static const char *const src[] = {"given", "alpha", "automatic"};
+        if (rc == CLI_OK && !line_path && cli_write_line(outdir, &prep, &err) != SQ_OK)
+            rc = cli_fail(&err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "photo", argv[optind]);
-        cJSON_AddStringToObject(o, "mask_source", src[prep.mask_source]);
+        cJSON_AddStringToObject(o, "mask_source", sq_mask_source_name(prep.mask_source));
         cJSON_AddNumberToObject(o, "body_width", prep.body_width);
         cJSON_AddNumberToObject(o, "length", prep.length);
         cJSON_AddNumberToObject(o, "stretches", prep.nruns);
@@ -196,11 +238,10 @@ int cmd_prepare(int argc, char **argv)
         if (rc == CLI_OK)
             printf("%s: %s mask, body %.0f px wide, %.0f px of it in %d stretch%s straightened into a "
                    "%dx%d strip, %s\n",
-                   argv[optind], src[prep.mask_source], prep.body_width, prep.length, prep.nruns,
+                   argv[optind], sq_mask_source_name(prep.mask_source), prep.body_width, prep.length, prep.nruns,
                    prep.nruns == 1 ? "" : "es", prep.strip.width, prep.strip.height, light_words(prep.light_xy));
         sq_fit_prepared_free(&prep);
     }
-    sq_image_free(&photo);
-    sq_image_free(&mask);
+    cli_photo_free(&in);
     return rc;
 }

@@ -18,7 +18,7 @@
 #include "squama/search.h"
 
 static const char help[] =
-    "usage: squama score PHOTO [--mask MASK] [--json] PRESET...\n"
+    "usage: squama score PHOTO [--mask MASK] [--line LINE] [--json] PRESET...\n"
     "\n"
     "Prepares PHOTO (see 'squama prepare') and scores every PRESET against it: the\n"
     "objectives (lower is better; 0 for identical statistics), the view scale that fits\n"
@@ -31,6 +31,7 @@ static const char help[] =
     "\n"
     "options:\n"
     "  -m, --mask MASK      the snake's mask (white on the snake, the photo's size)\n"
+    "  -l, --line LINE      the body's centre line and width (see 'squama prepare')\n"
     "      --json           an array of {preset, objectives, view_scale, rank}\n"
     "      --size N         candidate texture size (default 256)\n"
     "      --debug DIR      save the photo's preparation steps there\n"
@@ -41,13 +42,14 @@ int cmd_score(int argc, char **argv)
 {
     enum { O_JSON = 1000, O_SIZE, O_DEBUG, O_VIEW };
     static const struct option opts[] = {{"mask", required_argument, NULL, 'm'},
+                                         {"line", required_argument, NULL, 'l'},
                                          {"json", no_argument, NULL, O_JSON},
                                          {"size", required_argument, NULL, O_SIZE},
                                          {"debug", required_argument, NULL, O_DEBUG},
                                          {"view", required_argument, NULL, O_VIEW},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
-    const char *mask_path = NULL;
+    const char *mask_path = NULL, *line_path = NULL;
     int json = 0, size = 256, c;
     long v;
     double view = 0;
@@ -55,9 +57,10 @@ int cmd_score(int argc, char **argv)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "hm:l:", opts, NULL)) != -1) {
         switch (c) {
         case 'm': mask_path = optarg; break;
+        case 'l': line_path = optarg; break;
         case O_JSON: json = 1; break;
         case O_SIZE:
             if (cli_parse_int("--size", optarg, 64, 2048, &v, &err) != 0)
@@ -71,7 +74,7 @@ int cmd_score(int argc, char **argv)
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("m", optopt))
+            if (optopt && strchr("ml", optopt))
                 return cli_usage("score", "-%c needs a value", optopt);
             return cli_usage("score", "unknown option '%s'", argv[optind - 1]);
         }
@@ -101,12 +104,12 @@ int cmd_score(int argc, char **argv)
     for (int i = 0; i < n && rc == CLI_OK; i++)
         if (sq_preset_load(presets[i], &params[i], NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
-    SqImage photo = {0}, mask = {0};
+    CliPhoto in = {0};
     SqPrepared prep = {0};
     SqFeatures target;
-    if (rc == CLI_OK && cli_load_photo(photo_path, mask_path, &photo, &mask, &err) != 0)
+    if (rc == CLI_OK && cli_load_photo(photo_path, mask_path, line_path, &in, &err) != 0)
         rc = cli_fail(&err);
-    if (rc == CLI_OK && sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK)
+    if (rc == CLI_OK && cli_prepare(&in, &po, &prep, &err) != SQ_OK)
         rc = cli_fail(&err);
     if (rc == CLI_OK && sq_fit_photo_target(&prep, &target, &err) != SQ_OK)
         rc = cli_fail(&err);
@@ -150,7 +153,7 @@ int cmd_score(int argc, char **argv)
         free(text);
     } else if (rc == CLI_OK) {
         printf("%s: body %.0f px wide, %.0f px straightened in %d stretch%s (%s mask)\n\n", photo_path,
-               prep.body_width, prep.length, prep.nruns, prep.nruns == 1 ? "" : "es", prep.mask_source == SQ_MASK_GIVEN ? "given" : prep.mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
+               prep.body_width, prep.length, prep.nruns, prep.nruns == 1 ? "" : "es", sq_mask_source_name(prep.mask_source));
         printf("%4s %6s", "rank", "scale");
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             printf(" %9s", sq_fit_objective_name(k));
@@ -167,8 +170,7 @@ int cmd_score(int argc, char **argv)
             }
     }
     sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
+    cli_photo_free(&in);
     free(params);
     free(obj);
     free(scale);

@@ -25,7 +25,7 @@
 static const char help[] =
     "usage: squama seed --category C -o DIR [-n N] [--seed S]\n"
     "       squama seed --near PRESET -o DIR [-n N] [--distance D] [--seed S]\n"
-    "       squama seed --from-photo PHOTO -o DIR [--mask M] [--budget 60s | --evals N]\n"
+    "       squama seed --from-photo PHOTO -o DIR [--mask M] [--line L] [--budget 60s | --evals N]\n"
     "\n"
     "Starting presets for an artist to tweak by hand.\n"
     "\n"
@@ -62,6 +62,7 @@ static const char help[] =
     "  -s, --seed S         the seed of every random choice (default 1)\n"
     "      --pool K         candidates drawn per preset (default 12; --near 4)\n"
     "  -m, --mask MASK      --from-photo: the snake's mask\n"
+    "  -l, --line LINE      --from-photo: the body's centre line and width (see 'squama prepare')\n"
     "  -b, --budget TIME    --from-photo: the fit's wall time (default 60s)\n"
     "      --evals N        --from-photo: an evaluation budget instead (deterministic)\n"
     "      --size N         the sheet's tiles, 32 to 1024 pixels (default 256)\n"
@@ -357,13 +358,13 @@ int cmd_seed(int argc, char **argv)
         {"category", required_argument, NULL, 'c'}, {"near", required_argument, NULL, O_NEAR},
         {"from-photo", required_argument, NULL, O_PHOTO}, {"output", required_argument, NULL, 'o'},
         {"distance", required_argument, NULL, 'd'}, {"seed", required_argument, NULL, 's'},
-        {"pool", required_argument, NULL, O_POOL},  {"mask", required_argument, NULL, 'm'},
+        {"pool", required_argument, NULL, O_POOL},  {"mask", required_argument, NULL, 'm'}, {"line", required_argument, NULL, 'l'},
         {"budget", required_argument, NULL, 'b'},   {"evals", required_argument, NULL, O_EVALS},
         {"size", required_argument, NULL, O_SIZE},  {"cols", required_argument, NULL, O_COLS},
         {"threads", required_argument, NULL, 'j'},  {"quiet", no_argument, NULL, 'q'},
         {"json", no_argument, NULL, O_JSON},        {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0}};
-    const char *outdir = NULL, *origin = NULL, *mask_path = NULL;
+    const char *outdir = NULL, *origin = NULL, *mask_path = NULL, *line_path = NULL;
     int mode = 0, category = -1, n = 0, size = 256, cols = 0, json = 0, quiet = 0, distance_given = 0;
     double budget = 0;
     long max_evals = 0;
@@ -372,7 +373,7 @@ int cmd_seed(int argc, char **argv)
     int c;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hc:o:n:d:s:m:b:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "hc:o:n:d:s:m:l:b:j:q", opts, NULL)) != -1) {
         long v;
         int m = 0;
         switch (c) {
@@ -411,6 +412,7 @@ int cmd_seed(int argc, char **argv)
             so.pool = (int)v;
             break;
         case 'm': mask_path = optarg; break;
+        case 'l': line_path = optarg; break;
         case 'b':
             budget = cli_parse_time(optarg);
             if (budget <= 0)
@@ -440,7 +442,7 @@ int cmd_seed(int argc, char **argv)
         case O_JSON: json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("conjdsmbj", optopt))
+            if (optopt && strchr("conjdsmlbj", optopt))
                 return cli_usage("seed", "-%c needs a value", optopt);
             return cli_usage("seed", "unknown option '%s'", argv[optind - 1]);
         }
@@ -458,8 +460,8 @@ int cmd_seed(int argc, char **argv)
         return cli_usage("seed", "say where the presets go with -o DIR");
     if (distance_given && mode != MODE_NEAR)
         return cli_usage("seed", "--distance is for --near");
-    if ((mask_path || budget > 0 || max_evals > 0) && mode != MODE_PHOTO)
-        return cli_usage("seed", "--mask, --budget and --evals are for --from-photo");
+    if ((mask_path || line_path || budget > 0 || max_evals > 0) && mode != MODE_PHOTO)
+        return cli_usage("seed", "--mask, --line, --budget and --evals are for --from-photo");
     if (so.pool && mode == MODE_PHOTO)
         return cli_usage("seed", "--pool is for --category and --near");
     so.n = n ? n : mode == MODE_PHOTO ? 24 : 12;
@@ -502,13 +504,11 @@ int cmd_seed(int argc, char **argv)
                 rc = cli_fail(&err);
         }
     } else {
-        SqImage photo = {0}, mask = {0};
+        CliPhoto in = {0};
         SqPrepared prep = {0};
         SqFeatures target;
-        SqPrepOptions po = sq_fit_prep_options_default();
         px.what = s.origin_name;
-        if (cli_load_photo(origin, mask_path, &photo, &mask, &err) != 0 ||
-            sq_fit_prepare(&photo, mask_path ? &mask : NULL, &po, &prep, &err) != SQ_OK ||
+        if (cli_load_photo(origin, mask_path, line_path, &in, &err) != 0 || cli_prepare(&in, NULL, &prep, &err) != SQ_OK ||
             sq_fit_photo_target(&prep, &target, &err) != SQ_OK) {
             rc = cli_fail(&err);
         } else {
@@ -528,8 +528,7 @@ int cmd_seed(int argc, char **argv)
             }
         }
         sq_fit_prepared_free(&prep);
-        sq_image_free(&photo);
-        sq_image_free(&mask);
+        cli_photo_free(&in);
     }
     if (px.tty && !px.quiet)
         fputs("\r\033[K", stderr);

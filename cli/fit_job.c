@@ -125,7 +125,7 @@ static void progress(const SqFitProgress *p, void *ctx)
 }
 
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
-                              const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
+                              const char *line_path, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
                               const SqFitResult *r, int size, double total_s, SqError *err)
 {
     char path[4096];
@@ -201,6 +201,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         st = sq_io_write_image(path, &prep->strip, NULL, err);
     }
+    if (st == SQ_OK && !line_path) /* a line given is the user's: never overwritten */
+        st = cli_write_line(outdir, prep, err);
     if (st != SQ_OK)
         return st;
 
@@ -212,8 +214,9 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddStringToObject(in, "photo", photo_path);
     if (mask_path)
         cJSON_AddStringToObject(in, "mask", mask_path);
-    cJSON_AddStringToObject(in, "mask_source", prep->mask_source == SQ_MASK_GIVEN ? "given"
-                                               : prep->mask_source == SQ_MASK_ALPHA ? "alpha" : "automatic");
+    if (line_path)
+        cJSON_AddStringToObject(in, "line", line_path);
+    cJSON_AddStringToObject(in, "mask_source", sq_mask_source_name(prep->mask_source));
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
@@ -441,17 +444,17 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
     double t0 = cli_now_s();
-    SqImage photo = {0}, mask = {0};
+    CliPhoto in = {0};
     SqPrepared prep = {0};
     SqFeatures target;
     SqFitResult res = {0};
     SqFitOptions fo = job->fo;
     Ctx x = {0};
     SqStatus st = SQ_OK;
-    if (cli_load_photo(job->photo, job->mask, &photo, &mask, err) != 0)
+    if (cli_load_photo(job->photo, job->mask, job->line, &in, err) != 0)
         st = err->status != SQ_OK ? err->status : SQ_ERR_IO;
     if (st == SQ_OK)
-        st = sq_fit_prepare(&photo, job->mask ? &mask : NULL, &job->po, &prep, err);
+        st = cli_prepare(&in, &job->po, &prep, err);
     if (st == SQ_OK)
         st = sq_fit_photo_target(&prep, &target, err);
     if (st == SQ_OK) {
@@ -473,7 +476,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     }
     double total = cli_now_s() - t0;
     if (st == SQ_OK)
-        st = write_outputs(job->outdir, job->photo, job->mask, &prep, &target, &fo, &res, job->size, total, err);
+        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &prep, &target, &fo, &res, job->size, total, err);
     if (st == SQ_OK) {
         if (x.checkpoint_error[0] && !job->quiet)
             fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);
@@ -485,7 +488,6 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     }
     sq_fit_result_free(&res);
     sq_fit_prepared_free(&prep);
-    sq_image_free(&photo);
-    sq_image_free(&mask);
+    cli_photo_free(&in);
     return st;
 }

@@ -9,6 +9,7 @@
 
 typedef struct CliFitJob {
     const char *photo, *mask;  /* mask NULL: the photo's alpha, else made automatically */
+    const char *line;          /* a body line to follow, or NULL */
     const char *outdir;        /* created when missing */
     SqFitOptions fo;           /* progress, ctx and stop are the job's own */
     SqPrepOptions po;

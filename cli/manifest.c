@@ -14,6 +14,7 @@
 static const char *const id_names[] = {CLI_MANIFEST_ID, NULL};
 static const char *const photo_names[] = {CLI_MANIFEST_PHOTO, NULL};
 static const char *const mask_names[] = {CLI_MANIFEST_MASK, NULL};
+static const char *const line_names[] = {CLI_MANIFEST_LINE, NULL};
 static const char *const expected_names[] = {CLI_MANIFEST_EXPECTED, NULL};
 static const char *const species_names[] = {CLI_MANIFEST_SPECIES, NULL};
 
@@ -93,6 +94,7 @@ void cli_manifest_free(CliManifest *m)
     for (int i = 0; i < m->nrows; i++) {
         free(m->rows[i].photo);
         free(m->rows[i].mask);
+        free(m->rows[i].body_line);
         free(m->rows[i].error);
     }
     free(m->rows);
@@ -129,12 +131,12 @@ static SqStatus from_csv(SqCsv *csv, const char *path, CliManifest *m, SqError *
     const SqCsvRecord *h = &csv->records[0];
     int cid = find_column(h, id_names), cphoto = find_column(h, photo_names);
     int cmask = find_column(h, mask_names), cexp = find_column(h, expected_names);
-    int cspecies = find_column(h, species_names);
+    int cspecies = find_column(h, species_names), cline = find_column(h, line_names);
     snprintf(where, sizeof where, "%s:%d", path, h->line);
     if (cid < 0 || cphoto < 0) {
         sq_error_set(err, SQ_ERR_PARSE, where,
                      "the manifest's header has no %s column (the first line must name the columns: "
-                     "id, photo, and optionally mask, expected, species; it reads \"%.80s%s\")",
+                     "id, photo, and optionally mask, body_line, expected, species; it reads \"%.80s%s\")",
                      cid < 0 ? "'id'" : "'photo' (or 'file')", h->fields[0], h->nfields > 1 ? ", ..." : "");
         sq_io_csv_free(csv);
         free(csv);
@@ -164,12 +166,14 @@ static SqStatus from_csv(SqCsv *csv, const char *path, CliManifest *m, SqError *
         row->line = r->line;
         row->id = FIELD(cid);
         row->species = FIELD(cspecies);
-        const char *photo = FIELD(cphoto), *mask = FIELD(cmask), *exp = FIELD(cexp);
+        const char *photo = FIELD(cphoto), *mask = FIELD(cmask), *line = FIELD(cline), *exp = FIELD(cexp);
 #undef FIELD
         row->expected = -1;
         if (photo[0] && !(row->photo = resolve(path, dirlen, photo)))
             oom = 1;
         if (mask[0] && !(row->mask = resolve(path, dirlen, mask)))
+            oom = 1;
+        if (line[0] && !(row->body_line = resolve(path, dirlen, line)))
             oom = 1;
         if (r->nfields > h->nfields)
             row->error = dup_printf("the row has %d fields, the header %d", r->nfields, h->nfields);

@@ -11,6 +11,7 @@
 #define CLI_MANIFEST_ID "id"
 #define CLI_MANIFEST_PHOTO "photo", "file", "image", "path"
 #define CLI_MANIFEST_MASK "mask"
+#define CLI_MANIFEST_LINE "body_line"
 #define CLI_MANIFEST_EXPECTED "expected", "expected_category", "category", "pattern_category", \
                               "pattern_category_guess"
 #define CLI_MANIFEST_SPECIES "species"
@@ -22,6 +23,7 @@ typedef struct CliManifestRow {
     const char *id;   /* as written ("" when empty) */
     char *photo;      /* resolved against the manifest's folder; NULL when empty */
     char *mask;       /* resolved likewise; NULL when not given */
+    char *body_line;  /* a body line (squama-body-line JSON), likewise */
     const char *species; /* "" when not given */
     int expected;     /* an SqPatternType, or -1 when not given */
     char *error;      /* NULL, or why the row cannot be fitted (empty, malformed or repeated

@@ -34,7 +34,54 @@ void sq_fit_prepared_free(SqPrepared *p)
     sq_image_free(&p->strip);
     sq_image_free(&p->valid);
     free(p->centre);
+    free(p->run_points);
     memset(p, 0, sizeof *p);
+}
+
+const char *sq_mask_source_name(SqMaskSource s)
+{
+    static const char *const name[] = {"given", "alpha", "automatic", "line"};
+    return s >= SQ_MASK_GIVEN && s <= SQ_MASK_LINE ? name[s] : "unknown";
+}
+
+SqStatus sq_fit_prepared_line(const SqPrepared *p, SqBodyLine *out, SqError *err)
+{
+    memset(out, 0, sizeof *out);
+    const double gap = fmax(0.5 * p->body_width, 2.0);
+    out->count = calloc((size_t)(p->nruns > 0 ? p->nruns : 1), sizeof(int));
+    out->xy = malloc(sizeof(float) * 2 * (size_t)(p->npoints + 2 * p->nruns + 1));
+    if (!out->count || !out->xy) {
+        sq_body_line_free(out);
+        return sq_error_set(err, SQ_ERR_NOMEM, "body line", "out of memory");
+    }
+    out->width = p->body_width;
+    int j = 0;
+    for (int k = 0, i0 = 0; k < p->nruns; i0 += p->run_points[k++]) {
+        const int n = p->run_points[k];
+        if (n < 2)
+            continue;
+        /* the first point, then one each `gap` along, and the last */
+        double since = 0;
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            const float *c = p->centre + 2 * (size_t)(i0 + i);
+            if (i > 0)
+                since += hypot(c[0] - c[-2], c[1] - c[-1]);
+            if (i == 0 || i == n - 1 || since >= gap) {
+                out->xy[2 * j] = c[0];
+                out->xy[2 * j + 1] = c[1];
+                j++;
+                m++;
+                since = 0;
+            }
+        }
+        out->count[out->nstretches++] = m;
+    }
+    if (out->nstretches == 0) {
+        sq_body_line_free(out);
+        return sq_error_set(err, SQ_ERR_INVALID, "body line", "the preparation followed no centre line");
+    }
+    return SQ_OK;
 }
 
 double sq_fit_strip_blur(double step, double edge_blur)
@@ -775,18 +822,32 @@ static void curve_free(Curve *c)
     memset(c, 0, sizeof *c);
 }
 
-static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
+/* A curve of n points, its arrays allocated (-1: out of memory, c freeable as it is). */
+static int curve_alloc(Curve *c, int n)
 {
     memset(c, 0, sizeof *c);
-    c->i0 = i0;
     c->n = n;
     c->px = malloc(sizeof(float) * (size_t)n);
     c->py = malloc(sizeof(float) * (size_t)n);
     c->pr = malloc(sizeof(float) * (size_t)n);
     c->clean = malloc((size_t)n);
     c->arc = malloc(sizeof(double) * (size_t)n);
-    if (!c->px || !c->py || !c->pr || !c->clean || !c->arc)
+    return c->px && c->py && c->pr && c->clean && c->arc ? 0 : -1;
+}
+
+/* The arc length at each of the curve's points. */
+static void curve_arc(Curve *c)
+{
+    c->arc[0] = 0;
+    for (int i = 1; i < c->n; i++)
+        c->arc[i] = c->arc[i - 1] + hypot(c->px[i] - c->px[i - 1], c->py[i] - c->py[i - 1]);
+}
+
+static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
+{
+    if (curve_alloc(c, n) != 0)
         return -1;
+    c->i0 = i0;
     const double r = b->r;
     for (int i = 0; i < n; i++) {
         int k = b->path[i0 + i];
@@ -803,10 +864,95 @@ static int curve_make(const Body *b, int w, int h, int i0, int n, Curve *c)
     for (int i = 0; i < n; i++)
         framed += c->px[i] < r || c->py[i] < r || c->px[i] > w - r || c->py[i] > h - r;
     c->good = fmax(c->good - (double)framed / n, 0.0);
-    c->arc[0] = 0;
-    for (int i = 1; i < n; i++)
-        c->arc[i] = c->arc[i - 1] + hypot(c->px[i] - c->px[i - 1], c->py[i] - c->py[i - 1]);
+    curve_arc(c);
     return 0;
+}
+
+/* Stretch k of a body line (its points from `first` on) as a curve at working size
+ * (scale): a Catmull-Rom spline through its points (a line clicked by hand has corners;
+ * smoothed instead, a tight bend would shrink), a pixel apart, of radius r all along and
+ * clean everywhere. */
+static int line_curve(const SqBodyLine *L, int k, int first, double scale, double r, Curve *c)
+{
+    const float *q = L->xy + 2 * (size_t)first;
+    const int m = L->count[k];
+    /* the spline, densely: 4 samples a pixel of chord */
+    int nd = 1;
+    for (int i = 1; i < m; i++)
+        nd += 1 + (int)ceil(4 * scale * hypot(q[2 * i] - q[2 * i - 2], q[2 * i + 1] - q[2 * i - 1]));
+    double *dx = malloc(sizeof(double) * (size_t)nd), *dy = malloc(sizeof(double) * (size_t)nd);
+    memset(c, 0, sizeof *c);
+    if (!dx || !dy) {
+        free(dx);
+        free(dy);
+        return -1;
+    }
+    int j = 0;
+    double len = 0;
+    for (int i = 0; i + 1 < m; i++) {
+        const float *p0 = q + 2 * (i > 0 ? i - 1 : i), *p1 = q + 2 * i, *p2 = q + 2 * (i + 1),
+                    *p3 = q + 2 * (i + 2 < m ? i + 2 : i + 1);
+        const int steps = 1 + (int)ceil(4 * scale * hypot(p2[0] - p1[0], p2[1] - p1[1]));
+        for (int a = i ? 1 : 0; a <= steps && j < nd; a++) {
+            const double t = (double)a / steps, t2 = t * t, t3 = t2 * t;
+            double v[2];
+            for (int d = 0; d < 2; d++)
+                v[d] = 0.5 * (2 * p1[d] + (p2[d] - p0[d]) * t + (2 * p0[d] - 5 * p1[d] + 4 * p2[d] - p3[d]) * t2 +
+                              (3 * p1[d] - p0[d] - 3 * p2[d] + p3[d]) * t3);
+            dx[j] = scale * v[0];
+            dy[j] = scale * v[1];
+            if (j > 0)
+                len += hypot(dx[j] - dx[j - 1], dy[j] - dy[j - 1]);
+            j++;
+        }
+    }
+    nd = j;
+    /* resampled a pixel apart along it */
+    const int n = len > 1 ? (int)ceil(len) + 1 : 2;
+    if (curve_alloc(c, n) != 0) {
+        free(dx);
+        free(dy);
+        return -1;
+    }
+    double at = 0; /* arc length at dense point seg */
+    for (int i = 0, seg = 0; i < n; i++) {
+        const double s = len * i / (n - 1);
+        double sl = 0;
+        for (; seg < nd - 1; seg++) {
+            sl = hypot(dx[seg + 1] - dx[seg], dy[seg + 1] - dy[seg]);
+            if (at + sl >= s || seg == nd - 2)
+                break;
+            at += sl;
+        }
+        const int s1 = seg + 1 < nd ? seg + 1 : seg;
+        const double t = sl > 0 ? fmin(fmax((s - at) / sl, 0), 1) : 0;
+        c->px[i] = (float)(dx[seg] + t * (dx[s1] - dx[seg]));
+        c->py[i] = (float)(dy[seg] + t * (dy[s1] - dy[seg]));
+        c->pr[i] = (float)r;
+    }
+    free(dx);
+    free(dy);
+    memset(c->clean, 1, (size_t)n);
+    c->good = 1;
+    curve_arc(c);
+    return 0;
+}
+
+/* The body a line's curves sweep at radius r: every pixel within r of a point (the points
+ * are a pixel apart) is set in m8 (w x h). */
+static void line_mask(const Curve *curves, int ncurves, double r, int w, int h, uint8_t *m8)
+{
+    memset(m8, 0, (size_t)w * h);
+    for (int k = 0; k < ncurves; k++)
+        for (int i = 0; i < curves[k].n; i++) {
+            const double cx = curves[k].px[i], cy = curves[k].py[i];
+            const int x0 = (int)fmax(0, floor(cx - r)), x1 = (int)fmin(w - 1, ceil(cx + r));
+            const int y0 = (int)fmax(0, floor(cy - r)), y1 = (int)fmin(h - 1, ceil(cy + r));
+            for (int y = y0; y <= y1; y++)
+                for (int x = x0; x <= x1; x++)
+                    if ((x + 0.5 - cx) * (x + 0.5 - cx) + (y + 0.5 - cy) * (y + 0.5 - cy) <= r * r)
+                        m8[(size_t)y * w + x] = 255;
+        }
 }
 
 /* The photo's own blur, from the body's outline: across each edge (both sides of the
@@ -1186,13 +1332,45 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         for (size_t i = 0; i < (size_t)w * h; i++)
             out->mask.px[i] = m8[i] ? 1.0f : 0.0f;
         debug_save(&o, "2_mask.png", &out->mask);
-        body.m8 = m8;
-        m8 = NULL;
-        analyse(&body, w, h);
-    } else {
+        if (!o.line) {
+            body.m8 = m8;
+            m8 = NULL;
+            analyse(&body, w, h);
+        }
+    } else if (!o.line) {
         out->mask_source = SQ_MASK_AUTOMATIC;
         if (automatic_mask(&out->photo, &o, &body) != 0)
             FAIL(SQ_ERR_INTERNAL, "mask", "the automatic mask failed (GrabCut, out of memory)");
+    }
+    if (o.line) { /* the body where the line says, at its width; a mask given says which of it is body */
+        const SqBodyLine *L = o.line;
+        if (L->nstretches < 1 || L->nstretches > MAX_RUNS || !L->count || !L->xy)
+            FAIL(SQ_ERR_INVALID, "body line", "no stretches (1 to %d)", MAX_RUNS);
+        for (int k = 0, j = 0; k < L->nstretches; k++) {
+            if (L->count[k] < 2)
+                FAIL(SQ_ERR_INVALID, "body line", "stretches[%d] has %d point%s: 2 at least", k, L->count[k],
+                     L->count[k] == 1 ? "" : "s");
+            for (int i = 0; i < L->count[k]; i++, j++)
+                if (!(L->xy[2 * j] >= 0 && L->xy[2 * j] <= W0 && L->xy[2 * j + 1] >= 0 && L->xy[2 * j + 1] <= H0))
+                    FAIL(SQ_ERR_INVALID, "body line", "stretches[%d][%d] (%.1f, %.1f) lies outside the %dx%d photo", k,
+                         i, L->xy[2 * j], L->xy[2 * j + 1], W0, H0);
+        }
+        body.r = 0.5 * L->width * scale;
+        if (!(body.r >= 3))
+            FAIL(SQ_ERR_INVALID, "body line", "the body is %.1f pixels wide at %d px: too thin to see a pattern",
+                 2 * body.r, w > h ? w : h);
+        for (int k = 0, first = 0; k < L->nstretches; first += L->count[k++])
+            if (line_curve(L, k, first, scale, body.r, &curves[ncurves++]) != 0)
+                FAIL(SQ_ERR_NOMEM, "body line", "out of memory");
+        body.m8 = malloc((size_t)w * h);
+        if (!body.m8)
+            FAIL(SQ_ERR_NOMEM, "body line", "out of memory");
+        line_mask(curves, ncurves, body.r, w, h, body.m8);
+        if (mask_in || have_alpha) /* the mask given: body only where it says so too */
+            for (size_t i = 0; i < (size_t)w * h; i++)
+                body.m8[i] &= m8[i];
+        else
+            out->mask_source = SQ_MASK_LINE;
     }
     if (body.m8) {
         for (size_t i = 0; i < (size_t)w * h; i++)
@@ -1208,19 +1386,21 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     const double r = body.r;
     const double step = 2 * THETA_MAX * r / SQ_FIT_STRIP_W; /* one strip pixel of skin */
 
-    /* 6. each run as a smooth curve with its local radius */
-    for (int k = 0; k < body.nruns; k++) {
+    /* 6. each run as a smooth curve with its local radius (a line's, made above) */
+    for (int k = 0; k < body.nruns && !o.line; k++) {
         Curve *c = &curves[ncurves++]; /* freed at the end even if half made */
         if (curve_make(&body, w, h, body.runs[k][0], body.runs[k][1], c) != 0)
             FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
-        c->rows = (int)(c->arc[c->n - 1] / step);
     }
+    for (int k = 0; k < ncurves; k++)
+        curves[k].rows = (int)(curves[k].arc[curves[k].n - 1] / step);
     /* the runs whose edges are a body's width apart nearly all along (where the skeleton's
      * longest path cuts through a crossing or runs along the frame, they are not), if the
-     * longest of them fills a strip; else the longest run alone, as it is */
+     * longest of them fills a strip; else the longest run alone, as it is; a line's
+     * stretches all */
     int kept = 0, longest = 0;
     for (int k = 0; k < ncurves; k++)
-        if (curves[k].good >= MIN_RUN_GOOD && curves[k].n >= 2 * r) {
+        if (o.line || (curves[k].good >= MIN_RUN_GOOD && curves[k].n >= 2 * r)) {
             Curve t = curves[kept];
             curves[kept] = curves[k];
             curves[k] = t;
@@ -1228,7 +1408,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                 longest = kept;
             kept++;
         }
-    if (kept == 0 || curves[longest].rows < SQ_FIT_STRIP_W) {
+    if (!o.line && (kept == 0 || curves[longest].rows < SQ_FIT_STRIP_W)) {
         for (int k = 0; k < ncurves; k++)
             if (curves[k].i0 == body.run0) {
                 Curve t = curves[0];
@@ -1245,6 +1425,10 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         rows += curves[k].rows + (k ? RUN_GAP : 0);
     if (curves[longest].rows < SQ_FIT_STRIP_W) {
         double len = curves[longest].arc[curves[longest].n - 1];
+        if (o.line)
+            FAIL(SQ_ERR_INVALID, "body line",
+                 "its longest stretch is %.0f pixels, %.1f body widths: too short to straighten (%.1f at least)",
+                 len / scale, len / (2 * r), SQ_FIT_STRIP_W * step / (2 * r));
         FAIL(SQ_ERR_INVALID, "mask",
              "the longest clean stretch of body (not crossing or touching itself) is %.0f pixels, "
              "%.1f body widths: too short to straighten (%.1f at least)",
@@ -1287,8 +1471,11 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     for (int k = 0; k < ncurves; k++)
         out->npoints += curves[k].n;
     out->centre = malloc(sizeof(float) * 2 * (size_t)out->npoints);
-    if (!out->centre)
+    out->run_points = malloc(sizeof(int) * (size_t)ncurves);
+    if (!out->centre || !out->run_points)
         FAIL(SQ_ERR_NOMEM, "mask", "out of memory");
+    for (int k = 0; k < ncurves; k++)
+        out->run_points[k] = curves[k].n;
     for (int k = 0, j = 0; k < ncurves; k++)
         for (int i = 0; i < curves[k].n; i++, j++) {
             out->centre[2 * j] = (float)(curves[k].px[i] / scale);

@@ -135,6 +135,22 @@ PY
   check "other settings fit every row again" 0 out '"resumed":0' out '"fitted_now":5'
   grep -Eq '"settings": ?"budget=0 evals=120 ' "$TMP/b/stripes/done.json" || fail "done.json lacks the settings"
 
+  # body lines: a row followed along its line, a row whose line is refused listed with
+  # the line's error; the line's contents count as the mask's do
+  run prepare "$TMP/photos/stripes.jpg" -o "$TMP/lp" --work-size 256; check "prepare for a body line" 0
+  printf '{"format": "squama-body-line/1", "width": 20, "stretches": [[[5, 5]]]}\n' >"$TMP/photos/short.json"
+  printf 'id,photo,body_line\nlined,photos/stripes.jpg,lp/line.json\nshort,photos/stripes.jpg,photos/short.json\n' >"$TMP/l.csv"
+  run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
+  check "batch with body lines" 0 out '"ok":1' out '"errors":1'
+  grep -q '"mask_source": "line"' "$TMP/bl/lined/fit.json" || fail "the lined row was not followed along its line"
+  grep '"id":"short"' "$out" | grep -q 'stretches\[0\]' || fail "the short line's error is not listed"
+  grep -Eq '"line_digest": ?"[0-9a-f]{16}"' "$TMP/bl/lined/done.json" || fail "done.json has no line digest"
+  run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
+  check "batch with body lines resumed" 0 out '"resumed":1'
+  sed -i 's/"width": [0-9.]*/"width": 18/' "$TMP/lp/line.json"
+  run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
+  check "a line changed in place is fitted again" 0 out '"resumed":0'
+
   # a real crash: the batch killed (SIGKILL) once its first row is done; that row is read
   # back, the one it was fitting is fitted again, nothing half-written is listed (eight
   # rows, so that a busy machine holding this shell up does not let the batch finish)

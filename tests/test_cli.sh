@@ -163,6 +163,20 @@ check "prepare names the light" 0 out "lit from"
 for f in mask.png strip.png prepared.json debug/4_centre_line.png debug/6_strip.png; do
   [ -s "$TMP/prep/$f" ] || { echo "FAIL: prepare did not write $f"; fails=$((fails + 1)); }
 done
+# the centre line followed comes out as a body line, and goes back in
+[ -s "$TMP/prep/line.json" ] || { echo "FAIL: prepare did not write line.json"; fails=$((fails + 1)); }
+run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepl"
+check "prepare --line" 0 out "line mask, body"
+[ -e "$TMP/prepl/line.json" ] && { echo "FAIL: prepare --line wrote line.json"; fails=$((fails + 1)); }
+printf '{"format": "squama-body-line/1", "width": 30,\n "stretches": [[[10, 10], [9000, 10]]]}\n' >"$TMP/far.json"
+run prepare "$TMP/p.jpg" --line "$TMP/far.json" -o "$TMP/prepf"
+check "prepare --line outside" 1 err "stretches[0][1] (9000.0, 10.0) lies outside the 320x240 photo (body line)"
+[ -e "$TMP/prepf/strip.png" ] && { echo "FAIL: a refused line wrote strip.png"; fails=$((fails + 1)); }
+printf '{"format": "squama-body-line/1", "width": 30,\n "stretches": [[[10, 10]]]}\n' >"$TMP/one.json"
+run score "$TMP/p.jpg" --line "$TMP/one.json" "$SRC/presets/thesis/table_4_4_spots.json"
+check "score --line of one point" 1 err "$TMP/one.json: stretches[0]"
+run fit "$TMP/p.jpg" --line "$TMP/nowhere.json" -o "$TMP/fl" --evals 100; check "fit --line missing" 1 err "$TMP/nowhere.json"
+run prepare "$TMP/p.jpg" -o "$TMP/prepm" --line; check "prepare --line without a value" 2 err "-l needs a value"
 run prepare "$TMP/p.jpg" --mask "$SRC/tests/data/orient6.jpg" -o "$TMP/prep2"
 check "prepare mask of another size" 1 err "the mask is 4x8 but the photo is 320x240"
 run prepare "$TMP/none.jpg" -o "$TMP/prep3"; check "prepare missing photo" 1 err "cannot open image"
@@ -230,6 +244,12 @@ if l is not None:
     assert "A layer of " + l["layer"] in html
 PY
 fi
+[ -s "$TMP/fit/line.json" ] || { echo "FAIL: fit did not write line.json"; fails=$((fails + 1)); }
+run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl" --evals 100 --size 64 -j 2 -q
+check "fit --line" 0
+[ -e "$TMP/fitl/line.json" ] && { echo "FAIL: fit --line wrote line.json"; fails=$((fails + 1)); }
+grep -q '"mask_source": "line"' "$TMP/fitl/fit.json" && grep -q "\"line\": \"$TMP/fit/line.json\"" "$TMP/fitl/fit.json" ||
+  { echo "FAIL: fit.json does not name the line"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json
 check "fit --json" 0 out '"stage"'
 if command -v python3 >/dev/null; then

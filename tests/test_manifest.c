@@ -21,9 +21,9 @@ static CliManifest parse_ok(const char *text, const char *path)
 static void columns_by_name_and_paths(void **state)
 {
     (void)state;
-    CliManifest m = parse_ok("Species, FILE ,ID,pattern_category_guess,Mask,other\n"
-                             "\"Boa, constrictor\",p/a.jpg,a1,Transversal,m/a.png,x\n"
-                             "Philodryas,/abs/b.jpg,b.2,other simple,,y\n"
+    CliManifest m = parse_ok("Species, FILE ,ID,pattern_category_guess,Mask,other,Body_Line\n"
+                             "\"Boa, constrictor\",p/a.jpg,a1,Transversal,m/a.png,x,l/a.json\n"
+                             "Philodryas,/abs/b.jpg,b.2,other simple,,y,\n"
                              "Short,c.jpg,c3\n",
                              "runs/m.csv");
     assert_int_equal(m.nrows, 3);
@@ -32,10 +32,12 @@ static void columns_by_name_and_paths(void **state)
     assert_string_equal(r[0].id, "a1");
     assert_string_equal(r[0].photo, "runs/p/a.jpg");
     assert_string_equal(r[0].mask, "runs/m/a.png");
+    assert_string_equal(r[0].body_line, "runs/l/a.json");
     assert_string_equal(r[0].species, "Boa, constrictor");
     assert_int_equal(r[0].expected, SQ_PATTERN_TRANSVERSAL);
     assert_string_equal(r[1].photo, "/abs/b.jpg");
     assert_null(r[1].mask);
+    assert_null(r[1].body_line);
     assert_int_equal(r[1].expected, SQ_PATTERN_OTHER_SIMPLE);
     assert_null(r[2].error); /* missing trailing fields are empty */
     assert_int_equal(r[2].expected, -1);
@@ -143,6 +145,8 @@ static void done_records_read_back(void **state)
     assert_int_equal(d->line, 2);
     assert_string_equal(d->photo_digest, "0f3a9c1d2e4b5a67");
     assert_string_equal(d->mask_digest, "89abcdef01234567");
+    assert_string_equal(d->body_line, "/data/photos/bands_line.json");
+    assert_string_equal(d->line_digest, "76543210fedcba98");
     assert_true(d->has_settings);
     assert_string_equal(d->settings, "budget=0 evals=1500 seed=1 categories=0 size=256 work-size=1024");
     assert_int_equal(d->r.status, BATCH_OK);

@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "sq_test.h"
@@ -216,6 +217,203 @@ static void automatic_mask(void **state)
     sq_fit_prepared_free(&prep);
     sq_image_free(&photo);
     sq_image_free(&mask);
+}
+
+/* The truth's centre line as a body line: a point every 20 pixels. */
+static void truth_line(const SqPhotoTruth *t, SqBodyLine *line)
+{
+    line->nstretches = 1;
+    line->count = malloc(sizeof(int));
+    line->xy = malloc(sizeof(float) * 2 * (size_t)t->npoints);
+    assert_non_null(line->count);
+    assert_non_null(line->xy);
+    int n = 0;
+    for (int k = 0; k < t->npoints; k += 5, n++) { /* the truth's points are 4 px apart */
+        line->xy[2 * n] = t->points[2 * k];
+        line->xy[2 * n + 1] = t->points[2 * k + 1];
+    }
+    line->count[0] = n;
+    line->width = 2 * t->body_radius;
+}
+
+/* A body line is followed as drawn, at its width: no mask needed, the strip as long as the
+ * line; a mask given with it says which of the strip is body. */
+static void body_line_followed(void **state)
+{
+    (void)state;
+    SqImage photo, mask;
+    SqPhotoTruth t;
+    synthetic(&photo, &mask, &t, 3, 640, 480, SQ_BACKDROP_RANDOM);
+    SqBodyLine line;
+    truth_line(&t, &line);
+    SqPrepOptions o = sq_fit_prep_options_default();
+    o.line = &line;
+    SqPrepared prep, pm;
+    SqError err;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_OK);
+    assert_int_equal(prep.mask_source, SQ_MASK_LINE);
+    assert_string_equal(sq_mask_source_name(prep.mask_source), "line");
+    assert_true(fabs(prep.body_width - 2 * t.body_radius) < 1e-6);
+    assert_int_equal(prep.nruns, 1);
+    double len = 0;
+    for (int i = 1; i < line.count[0]; i++)
+        len += hypot(line.xy[2 * i] - line.xy[2 * i - 2], line.xy[2 * i + 1] - line.xy[2 * i - 1]);
+    if (!(prep.length > 0.9 * len && prep.length < 1.02 * len))
+        fail_msg("%.0f px straightened along a line of %.0f px", prep.length, len);
+    double worst = worst_distance(&prep, &t);
+    if (worst > 0.1 * t.body_radius)
+        fail_msg("the strip strays %.1f px from the line (radius %.1f)", worst, t.body_radius);
+    /* a strip like the mask's own: the same rings (transversal) in the same colours */
+    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &pm, &err), SQ_OK);
+    double a = 0, b = 0;
+    for (int i = 0; i < prep.strip.width * prep.strip.height * 3; i++)
+        a += prep.strip.px[i];
+    for (int i = 0; i < pm.strip.width * pm.strip.height * 3; i++)
+        b += pm.strip.px[i];
+    a /= prep.strip.width * prep.strip.height * 3;
+    b /= pm.strip.width * pm.strip.height * 3;
+    if (fabs(a - b) > 0.05)
+        fail_msg("mean of the line's strip %.3f, of the mask's %.3f", a, b);
+    sq_fit_prepared_free(&pm);
+    sq_fit_prepared_free(&prep);
+
+    /* with a mask: body only where it says so too (an empty half: half the strip invalid) */
+    SqImage half;
+    assert_int_equal(sq_image_alloc(&half, 640, 480, 1, SQ_SPACE_DATA), 0);
+    for (int y = 0; y < 480; y++)
+        for (int x = 0; x < 640; x++)
+            half.px[y * 640 + x] = x < 320 ? mask.px[y * 640 + x] : 1.0f;
+    assert_int_equal(sq_fit_prepare(&photo, &half, &o, &prep, &err), SQ_OK);
+    assert_int_equal(prep.mask_source, SQ_MASK_GIVEN);
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &pm, &err), SQ_OK);
+    double va = 0, vb = 0;
+    for (int i = 0; i < prep.valid.width * prep.valid.height; i++) {
+        va += prep.valid.px[i];
+        vb += pm.valid.px[i];
+    }
+    assert_true(va <= vb);
+    sq_fit_prepared_free(&pm);
+    sq_fit_prepared_free(&prep);
+    sq_image_free(&half);
+
+    /* the line a preparation followed, given back, is followed again */
+    assert_int_equal(sq_fit_prepare(&photo, &mask, NULL, &pm, &err), SQ_OK);
+    SqBodyLine again;
+    assert_int_equal(sq_fit_prepared_line(&pm, &again, &err), SQ_OK);
+    assert_int_equal(again.nstretches, pm.nruns);
+    assert_true(fabs(again.width - pm.body_width) < 1e-6);
+    o.line = &again;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_OK);
+    if (fabs(prep.length - pm.length) > 0.05 * pm.length)
+        fail_msg("%.0f px straightened again, %.0f the first time", prep.length, pm.length);
+    assert_true(worst_distance(&prep, &t) < 0.25 * t.body_radius);
+    sq_fit_prepared_free(&prep);
+    sq_fit_prepared_free(&pm);
+
+    /* refused, with where: outside the photo, too thin, too short */
+    line.xy[2] = 700;
+    o.line = &line;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.where, "body line");
+    assert_contains(err.what, "stretches[0][1] (700.0,");
+    assert_contains(err.what, "outside the 640x480 photo");
+    assert_null(prep.strip.px);
+    line.xy[2] = line.xy[0] + 1;
+    line.width = 4;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "too thin");
+    line.width = 2 * t.body_radius;
+    line.count[0] = 2;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "too short to straighten");
+    assert_null(prep.strip.px);
+    sq_body_line_free(&again);
+    sq_body_line_free(&line);
+    sq_image_free(&photo);
+    sq_image_free(&mask);
+    sq_fit_truth_free(&t);
+}
+
+static void replay_line(const char *path, void *ctx)
+{
+    SqBodyLine line;
+    SqError err;
+    if (sq_body_line_read(path, &line, &err) == SQ_OK) {
+        assert_true(line.nstretches >= 1 && line.count[0] >= 2 && line.width >= 1);
+        sq_body_line_free(&line);
+        ++*(int *)ctx;
+    } else {
+        assert_true(err.what[0] && err.where[0]);
+        assert_null(line.xy);
+    }
+}
+
+/* The body line's JSON: read back as written; bad files refused naming the place. */
+static void body_line_files(void **state)
+{
+    (void)state;
+    SqBodyLine line, back;
+    SqError err;
+    const char *good = "{\"format\": \"squama-body-line/1\", \"width\": 58,\n"
+                       " \"stretches\": [[[120, 400], [180, 352.25], [260, 330]], [[500, 210], [610, 190]]]}";
+    assert_int_equal(sq_body_line_parse(good, strlen(good), "l.json", &line, &err), SQ_OK);
+    assert_int_equal(line.nstretches, 2);
+    assert_int_equal(line.count[0], 3);
+    assert_int_equal(line.count[1], 2);
+    assert_true(line.width == 58);
+    assert_true(line.xy[3] == 352.25f && line.xy[8] == 610);
+    char path[] = "/tmp/sq_line_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    close(fd);
+    assert_int_equal(sq_body_line_write(path, &line, &err), SQ_OK);
+    assert_int_equal(sq_body_line_read(path, &back, &err), SQ_OK);
+    assert_int_equal(back.nstretches, 2);
+    for (int i = 0; i < 5; i++) /* to a tenth of a pixel */
+        assert_true(fabsf(back.xy[2 * i] - line.xy[2 * i]) <= 0.05f && fabsf(back.xy[2 * i + 1] - line.xy[2 * i + 1]) <= 0.05f);
+    sq_body_line_free(&back);
+    sq_body_line_free(&line);
+    unlink(path);
+    assert_int_equal(sq_body_line_read(path, &back, &err), SQ_ERR_IO);
+
+    static const struct { const char *text, *where, *what; } bad[] = {
+        {"[1, 2]", "l.json", "must be a JSON object"},
+        {"{\"width\": 5, \"stretches\": [[[0, 0], [1, 1]]]}", "l.json", "\"format\" must be"},
+        {"{\"format\": \"squama-preset/1\"}", "l.json", "\"format\" must be"},
+        {"{\"format\": \"squama-body-line/1\", \"stretches\": [[[0, 0], [1, 1]]]}", "l.json: width", "width"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": -3, \"stretches\": [[[0, 0], [1, 1]]]}", "l.json: width",
+         "from 1 to"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": []}", "l.json: stretches", "1 to 16"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": [[[0, 0]]]}", "l.json: stretches[0]",
+         "2 points at least"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": [[[0, 0], [1, 1]], [[0, 0], [1]]]}",
+         "l.json: stretches[1][1]", "[x, y]"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": [[[0, 0], [1, \"a\"]]]}",
+         "l.json: stretches[0][1]", "[x, y]"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": [[[0, 0], [1, 1]]], \"colour\": 1}",
+         "l.json: colour", "unknown key"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"width\": 9, \"stretches\": [[[0, 0], [1, 1]]]}",
+         "l.json: width", "twice"},
+        {"{\"format\": \"squama-body-line/1\",\n \"width\": 9,\n \"stretches\": [[[0, 0], [1, 1]]}", "l.json:3",
+         "malformed JSON"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        line.nstretches = 7;
+        if (sq_body_line_parse(bad[i].text, strlen(bad[i].text), "l.json", &line, &err) == SQ_OK)
+            fail_msg("accepted: %s", bad[i].text);
+        assert_int_equal(line.nstretches, 0); /* nothing held */
+        assert_null(line.xy);
+        assert_contains(err.where, bad[i].where);
+        assert_contains(err.what, bad[i].what);
+    }
+    assert_int_equal(sq_body_line_parse("{\"a\"\0}", 6, "l.json", &line, &err), SQ_ERR_PARSE);
+
+    /* the fuzz harness' regressions: read, or refused with a reason */
+    char dir[1024];
+    int read = 0;
+    if (for_each_file(src_path(dir, sizeof dir, "tests/fuzz/regressions/line"), "", 0, replay_line, &read) < 3)
+        fail_msg("tests/fuzz/regressions/line: the hand-written inputs are missing");
+    assert_int_equal(read, 1); /* two-stretches.json */
 }
 
 static void bad_input_refused(void **state)
@@ -445,6 +643,8 @@ int main(void)
         cmocka_unit_test(light_from_the_shading),
         cmocka_unit_test(automatic_mask),
         cmocka_unit_test(bad_input_refused),
+        cmocka_unit_test(body_line_followed),
+        cmocka_unit_test(body_line_files),
         cmocka_unit_test(large_photo),
         cmocka_unit_test(big_body_is_area_sampled),
         cmocka_unit_test(small_body_target_is_blurred),

@@ -141,11 +141,46 @@ SqStatus sq_fit_score(const SqFeatures *target, const SqParams *p, int size, dou
 
 /* ---- photo preparation (prep.c) ---- */
 
-typedef enum SqMaskSource { SQ_MASK_GIVEN, SQ_MASK_ALPHA, SQ_MASK_AUTOMATIC } SqMaskSource;
+/* Where the body's outline came from: a mask given, the photo's alpha, the automatic mask
+ * (GrabCut), or a body line's width (SqPrepOptions.line, no mask given). */
+typedef enum SqMaskSource { SQ_MASK_GIVEN, SQ_MASK_ALPHA, SQ_MASK_AUTOMATIC, SQ_MASK_LINE } SqMaskSource;
+
+/* "given", "alpha", "automatic", "line" */
+const char *sq_mask_source_name(SqMaskSource s);
+
+/* ---- the body line (line.c) ----
+ * Where the body runs in a photo, for photos whose mask cannot say it (a coiled body whose
+ * coils touch, a snake on ground of its own colours): one or more stretches of its centre
+ * line, each a polyline of points in pixels of the photo (x right, y down, from the
+ * photo's top-left corner), and the body's width in the same pixels. As JSON:
+ *   {"format": "squama-body-line/1", "width": 58,
+ *    "stretches": [[[x, y], [x, y], ...], ...]}
+ * The preparation writes the line it followed in this form (line.json of squama prepare
+ * and squama fit), to be corrected by hand and passed back (--line). */
+#define SQ_BODY_LINE_FORMAT "squama-body-line/1"
+enum { SQ_BODY_LINE_MAX_BYTES = 4 << 20, SQ_BODY_LINE_MAX_STRETCHES = 16, SQ_BODY_LINE_MAX_POINTS = 100000 };
+
+typedef struct SqBodyLine {
+    int nstretches;
+    int *count;    /* points of each stretch (2 at least) */
+    float *xy;     /* every stretch's points in turn: x, y */
+    double width;  /* the body's width */
+} SqBodyLine;
+
+/* Parses len bytes of JSON; name is used in messages ("name: stretches[1][3]"). On error
+ * nothing is allocated in out. */
+SqStatus sq_body_line_parse(const char *text, size_t len, const char *name, SqBodyLine *out, SqError *err);
+SqStatus sq_body_line_read(const char *path, SqBodyLine *out, SqError *err);
+/* Writes atomically, a stretch a line, coordinates to a tenth of a pixel. */
+SqStatus sq_body_line_write(const char *path, const SqBodyLine *line, SqError *err);
+void sq_body_line_free(SqBodyLine *line); /* NULL-safe; zeroes line */
 
 typedef struct SqPrepOptions {
     int work_size;          /* longest side the photo is prepared at (default 1024) */
     const char *debug_dir;  /* when set, every step is saved there as an image */
+    const SqBodyLine *line; /* when set, the body is followed along it, at its width: no
+                             * mask is made, and a mask given only says which of the
+                             * pixels within the width are body */
 } SqPrepOptions;
 
 typedef struct SqPrepared {
@@ -160,6 +195,7 @@ typedef struct SqPrepared {
     int nruns;              /* stretches of body straightened (between crossings) */
     int npoints;
     float *centre;          /* the runs' centre lines, x, y in pixels of the original */
+    int *run_points;        /* points of each run in centre (nruns) */
     SqLight light;          /* the light along the body (see SqLight), from the shading's
                              * tilt as the body turns (one light fixed in the photo) */
     float light_xy[2];      /* that light's part in the photo's plane (x right, y down;
@@ -185,6 +221,10 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask, const SqPrepO
                         SqPrepared *out, SqError *err);
 
 void sq_fit_prepared_free(SqPrepared *p);
+
+/* The centre line the preparation followed as a body line (a point every half body width
+ * or so, and the body's width), to be saved, corrected and given back. */
+SqStatus sq_fit_prepared_line(const SqPrepared *p, SqBodyLine *out, SqError *err);
 
 /* How much blurrier than a candidate's strip a photo's strip is, a Gaussian's sigma in
  * strip pixels, when a strip pixel spans `step` photo pixels and the photo's own blur is

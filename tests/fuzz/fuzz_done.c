@@ -21,8 +21,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort();
         if (d->r.status != BATCH_OK && d->r.status != BATCH_ERROR)
             abort();
-        size_t p = strlen(d->photo_digest), m = strlen(d->mask_digest);
-        if ((p && p != BATCH_DIGEST - 1) || (m && m != BATCH_DIGEST - 1))
+        size_t p = strlen(d->photo_digest), m = strlen(d->mask_digest), l = strlen(d->line_digest);
+        if ((p && p != BATCH_DIGEST - 1) || (m && m != BATCH_DIGEST - 1) || (l && l != BATCH_DIGEST - 1))
             abort();
         if (d->expected < -1 || d->expected >= SQ_PATTERN_COUNT)
             abort();
