@@ -635,6 +635,48 @@ static void real_photos(void **state)
         skip();
 }
 
+/* The body lines drawn for real photos (refs/photo_lines/<id>.json, <id> the photo's file
+ * name): each reads, and where the photo is here, is followed along its whole length,
+ * every point within the photo. */
+static void photo_line(const char *path, void *ctx)
+{
+    SqBodyLine line;
+    SqError err;
+    if (sq_body_line_read(path, &line, &err) != SQ_OK)
+        fail_msg("%s (%s)", err.what, err.where);
+    const char *base = strrchr(path, '/') + 1;
+    char photo_path[2048];
+    snprintf(photo_path, sizeof photo_path, "%s/photos/%.*s.jpg", SQUAMA_SHARED_DIR, (int)(strlen(base) - 5), base);
+    SqImage photo;
+    if (access(photo_path, R_OK) == 0 && sq_io_read_image(photo_path, NULL, &photo, NULL, &err) == SQ_OK) {
+        SqPrepOptions o = sq_fit_prep_options_default();
+        o.line = &line;
+        SqPrepared prep;
+        if (sq_fit_prepare(&photo, NULL, &o, &prep, &err) != SQ_OK)
+            fail_msg("%s: %s (%s)", base, err.what, err.where);
+        double len = 0;
+        for (int k = 0, j = 0; k < line.nstretches; j += line.count[k++])
+            for (int i = 1; i < line.count[k]; i++)
+                len += hypot(line.xy[2 * (j + i)] - line.xy[2 * (j + i - 1)], line.xy[2 * (j + i) + 1] - line.xy[2 * (j + i - 1) + 1]);
+        if (!(prep.length > 0.95 * len))
+            fail_msg("%s: %.0f px straightened along a line of %.0f", base, prep.length, len);
+        ++*(int *)ctx;
+        sq_fit_prepared_free(&prep);
+        sq_image_free(&photo);
+    }
+    sq_body_line_free(&line);
+}
+
+static void photo_lines(void **state)
+{
+    (void)state;
+    char dir[1024];
+    int followed = 0;
+    if (for_each_file(src_path(dir, sizeof dir, "refs/photo_lines"), ".json", 0, photo_line, &followed) < 1)
+        fail_msg("refs/photo_lines holds no body line");
+    print_message("%d photo lines followed on their photos\n", followed);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -645,6 +687,7 @@ int main(void)
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(body_line_followed),
         cmocka_unit_test(body_line_files),
+        cmocka_unit_test(photo_lines),
         cmocka_unit_test(large_photo),
         cmocka_unit_test(big_body_is_area_sampled),
         cmocka_unit_test(small_body_target_is_blurred),
