@@ -59,6 +59,12 @@ SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *pre
  * --line). */
 SqStatus cli_write_line(const char *dir, const SqPrepared *prep, SqError *err);
 
+/* line.png: the prepared photo with a grid in the photo's own pixels (labelled), each
+ * stretch followed (its centre line in red, its edges dotted in cyan) and the line's
+ * points numbered within their stretch: those of given, or else of the line prep
+ * followed (as cli_write_line writes them). */
+SqStatus cli_line_picture(const SqPrepared *prep, const SqBodyLine *given, const char *path, SqError *err);
+
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
 /* Prints "squama: <what> (<where>)" to stderr; returns CLI_FAIL. */

@@ -39,6 +39,7 @@ static const char help[] =
     "  preview.png      the best preset on a snake body, at the fitted view scale\n"
     "  photo.jpg mask.png strip.png fitted_strip.png   the prepared photo and the fit's view\n"
     "  line.json        the centre line followed (not with --line): correct it and pass it back\n"
+    "  line.png         that line over the photo, its points numbered, on a grid of photo pixels\n"
     "  report.html      all of it side by side, with convergence and Pareto-front plots\n"
     "  checkpoint/      the front so far, for --resume\n"
     "\n"

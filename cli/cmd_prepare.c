@@ -28,7 +28,9 @@ static const char help[] =
     "body's width in photo pixels, followed as it is.\n"
     "Writes DIR/mask.png (the photo's size: correct it and pass it back with --mask),\n"
     "DIR/line.json (the centre line followed, a point every half body width: correct it and\n"
-    "pass it back with --line), DIR/strip.png, DIR/prepared.json (body width, length,\n"
+    "pass it back with --line; not with --line), DIR/line.png (that line over the photo, its\n"
+    "points numbered, with a grid in the photo's pixels to read them off), DIR/strip.png,\n"
+    "DIR/prepared.json (body width, length,\n"
     "stretches, mask source, the light's direction in the photo) and, with --debug,\n"
     "every step as an image in DIR/debug/.\n"
     "\n"
@@ -216,6 +218,9 @@ int cmd_prepare(int argc, char **argv)
         if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
         if (rc == CLI_OK && !line_path && cli_write_line(outdir, &prep, &err) != SQ_OK)
+            rc = cli_fail(&err);
+        snprintf(path, sizeof path, "%s/line.png", outdir);
+        if (rc == CLI_OK && cli_line_picture(&prep, line_path ? &in.line : NULL, path, &err) != SQ_OK)
             rc = cli_fail(&err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "photo", argv[optind]);

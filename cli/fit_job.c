@@ -125,7 +125,7 @@ static void progress(const SqFitProgress *p, void *ctx)
 }
 
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
-                              const char *line_path, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
+                              const char *line_path, const SqBodyLine *line, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
                               const SqFitResult *r, int size, double total_s, SqError *err)
 {
     char path[4096];
@@ -203,6 +203,10 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     }
     if (st == SQ_OK && !line_path) /* a line given is the user's: never overwritten */
         st = cli_write_line(outdir, prep, err);
+    if (st == SQ_OK) {
+        snprintf(path, sizeof path, "%s/line.png", outdir);
+        st = cli_line_picture(prep, line_path ? line : NULL, path, err);
+    }
     if (st != SQ_OK)
         return st;
 
@@ -476,7 +480,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     }
     double total = cli_now_s() - t0;
     if (st == SQ_OK)
-        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &prep, &target, &fo, &res, job->size, total, err);
+        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in.line, &prep, &target, &fo, &res, job->size, total, err);
     if (st == SQ_OK) {
         if (x.checkpoint_error[0] && !job->quiet)
             fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);

@@ -122,6 +122,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     cli_buf_put(&b, "<div>\n");
     static const char *const pics[][2] = {
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},
+        {"line.png", "centre line followed (line.json: correct it and pass it back with --line)"},
         {"strip.png", "straightened body"}, {"fitted_strip.png", "the fit, seen the same way"},
         {"basecolor.png", "fitted texture (base colour)"}, {"normal.png", "normal map"},
         {"preview.png", "preview on a snake body, at the fitted view scale"}};

@@ -160,7 +160,7 @@ check "render --preview" 0 out "wrote $TMP/r/pv/preview.png"
 run prepare "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/prep" --debug
 check "prepare" 0 out "given mask, body"
 check "prepare names the light" 0 out "lit from"
-for f in mask.png strip.png prepared.json debug/4_centre_line.png debug/6_strip.png; do
+for f in mask.png strip.png prepared.json line.json line.png debug/4_centre_line.png debug/6_strip.png; do
   [ -s "$TMP/prep/$f" ] || { echo "FAIL: prepare did not write $f"; fails=$((fails + 1)); }
 done
 # the centre line followed comes out as a body line, and goes back in
@@ -168,6 +168,7 @@ done
 run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepl"
 check "prepare --line" 0 out "line mask, body"
 [ -e "$TMP/prepl/line.json" ] && { echo "FAIL: prepare --line wrote line.json"; fails=$((fails + 1)); }
+[ -s "$TMP/prepl/line.png" ] || { echo "FAIL: prepare --line did not draw line.png"; fails=$((fails + 1)); }
 printf '{"format": "squama-body-line/1", "width": 30,\n "stretches": [[[10, 10], [9000, 10]]]}\n' >"$TMP/far.json"
 run prepare "$TMP/p.jpg" --line "$TMP/far.json" -o "$TMP/prepf"
 check "prepare --line outside" 1 err "stretches[0][1] (9000.0, 10.0) lies outside the 320x240 photo (body line)"
@@ -216,7 +217,8 @@ run fit "$TMP/none.jpg" -o "$TMP/fx" --evals 100; check "fit missing photo" 1 er
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 64 -j 2
 check "fit" 0 out "evaluations" out "report: $TMP/fit/report.html"
 for f in best.json fit.json front/00.json basecolor.png height.png roughness.png normal.png \
-         preview.png photo.jpg mask.png strip.png fitted_strip.png report.html checkpoint/checkpoint.json; do
+         preview.png photo.jpg mask.png strip.png fitted_strip.png line.json line.png report.html \
+         checkpoint/checkpoint.json; do
   [ -s "$TMP/fit/$f" ] || { echo "FAIL: fit did not write $f"; fails=$((fails + 1)); }
 done
 run render "$TMP/fit/best.json" -o "$TMP/fit/r" --size 32; check "render the fitted preset" 0
@@ -234,6 +236,7 @@ assert all(x["category"] in f["niches"] and x["judged"] > 0 for x in d), d
 assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
 assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html and "at the fitted view scale" in html
+assert "line.png" in html
 assert "layer" in s["seconds"]
 l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
 if l is not None:
