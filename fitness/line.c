@@ -133,10 +133,17 @@ SqStatus sq_body_line_read(const char *path, SqBodyLine *out, SqError *err)
 
 SqStatus sq_body_line_write(const char *path, const SqBodyLine *line, SqError *err)
 {
-    /* by hand, one stretch a line: short enough to edit */
+    /* by hand, one stretch a line: short enough to edit; what the parser takes only */
     int total = 0;
     for (int k = 0; k < line->nstretches; k++)
         total += line->count[k];
+    int sane = line->nstretches >= 1 && line->nstretches <= SQ_BODY_LINE_MAX_STRETCHES && total <= SQ_BODY_LINE_MAX_POINTS &&
+               line->width >= 1 && line->width <= 1e6;
+    for (int i = 0; i < 2 * total && sane; i++)
+        sane = fabsf(line->xy[i]) <= 1e6f;
+    if (!sane)
+        return sq_error_set(err, SQ_ERR_INVALID, path, "not a body line: 1 to %d stretches, %d points at most, "
+                            "coordinates and width within 1e6", SQ_BODY_LINE_MAX_STRETCHES, SQ_BODY_LINE_MAX_POINTS);
     const size_t cap = 128 + 64 * (size_t)total + 16 * (size_t)line->nstretches;
     char *text = malloc(cap);
     if (!text)

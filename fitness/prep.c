@@ -876,18 +876,19 @@ static int line_curve(const SqBodyLine *L, int k, int first, double scale, doubl
 {
     const float *q = L->xy + 2 * (size_t)first;
     const int m = L->count[k];
-    /* the spline, densely: 4 samples a pixel of chord */
-    int nd = 1;
+    /* the spline, densely: 4 samples a pixel of chord (the line's length is bounded by the
+     * caller) */
+    size_t nd = 1;
     for (int i = 1; i < m; i++)
-        nd += 1 + (int)ceil(4 * scale * hypot(q[2 * i] - q[2 * i - 2], q[2 * i + 1] - q[2 * i - 1]));
-    double *dx = malloc(sizeof(double) * (size_t)nd), *dy = malloc(sizeof(double) * (size_t)nd);
+        nd += 1 + (size_t)ceil(4 * scale * hypot(q[2 * i] - q[2 * i - 2], q[2 * i + 1] - q[2 * i - 1]));
+    double *dx = malloc(sizeof(double) * nd), *dy = malloc(sizeof(double) * nd);
     memset(c, 0, sizeof *c);
     if (!dx || !dy) {
         free(dx);
         free(dy);
         return -1;
     }
-    int j = 0;
+    size_t j = 0;
     double len = 0;
     for (int i = 0; i + 1 < m; i++) {
         const float *p0 = q + 2 * (i > 0 ? i - 1 : i), *p1 = q + 2 * i, *p2 = q + 2 * (i + 1),
@@ -915,7 +916,8 @@ static int line_curve(const SqBodyLine *L, int k, int first, double scale, doubl
         return -1;
     }
     double at = 0; /* arc length at dense point seg */
-    for (int i = 0, seg = 0; i < n; i++) {
+    size_t seg = 0;
+    for (int i = 0; i < n; i++) {
         const double s = len * i / (n - 1);
         double sl = 0;
         for (; seg < nd - 1; seg++) {
@@ -924,7 +926,7 @@ static int line_curve(const SqBodyLine *L, int k, int first, double scale, doubl
                 break;
             at += sl;
         }
-        const int s1 = seg + 1 < nd ? seg + 1 : seg;
+        const size_t s1 = seg + 1 < nd ? seg + 1 : seg;
         const double t = sl > 0 ? fmin(fmax((s - at) / sl, 0), 1) : 0;
         c->px[i] = (float)(dx[seg] + t * (dx[s1] - dx[seg]));
         c->py[i] = (float)(dy[seg] + t * (dy[s1] - dy[seg]));
@@ -938,20 +940,26 @@ static int line_curve(const SqBodyLine *L, int k, int first, double scale, doubl
     return 0;
 }
 
-/* The body a line's curves sweep at radius r: every pixel within r of a point (the points
- * are a pixel apart) is set in m8 (w x h). */
+/* The body a line's curves sweep at radius r: every pixel whose middle lies within r of
+ * a point is set in m8 (w x h). The points are a pixel apart; discs a quarter radius apart
+ * (and the last) miss at most r / 128 of the edge, at a cost that grows as r, not r^2. */
 static void line_mask(const Curve *curves, int ncurves, double r, int w, int h, uint8_t *m8)
 {
     memset(m8, 0, (size_t)w * h);
+    const int every = r > 8 ? (int)(r / 4) : 1;
     for (int k = 0; k < ncurves; k++)
-        for (int i = 0; i < curves[k].n; i++) {
+        for (int i = 0; i < curves[k].n; i = i + every < curves[k].n || i == curves[k].n - 1 ? i + every : curves[k].n - 1) {
             const double cx = curves[k].px[i], cy = curves[k].py[i];
-            const int x0 = (int)fmax(0, floor(cx - r)), x1 = (int)fmin(w - 1, ceil(cx + r));
             const int y0 = (int)fmax(0, floor(cy - r)), y1 = (int)fmin(h - 1, ceil(cy + r));
-            for (int y = y0; y <= y1; y++)
-                for (int x = x0; x <= x1; x++)
-                    if ((x + 0.5 - cx) * (x + 0.5 - cx) + (y + 0.5 - cy) * (y + 0.5 - cy) <= r * r)
-                        m8[(size_t)y * w + x] = 255;
+            for (int y = y0; y <= y1; y++) {
+                const double dy = y + 0.5 - cy;
+                if (dy * dy > r * r)
+                    continue;
+                const double half = sqrt(r * r - dy * dy);
+                const int x0 = (int)fmax(0, ceil(cx - half - 0.5)), x1 = (int)fmin(w - 1, floor(cx + half - 0.5));
+                if (x1 >= x0)
+                    memset(m8 + (size_t)y * w + x0, 255, (size_t)(x1 - x0 + 1));
+            }
         }
 }
 
@@ -1298,7 +1306,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
 
     /* 2. the mask: given, from alpha, or by GrabCut */
     int have_alpha = 0;
-    if (!mask_in && photo->channels == 4)
+    if (!mask_in && photo->channels == 4 && !o.line) /* a line given says where the body is */
         for (size_t i = 0; i < (size_t)W0 * H0 && !have_alpha; i++)
             have_alpha = photo->px[4 * i + 3] < 0.5f;
     static const char *const source_name[] = {"the given mask", "the photo's alpha", "the automatic mask"};
@@ -1359,6 +1367,17 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         if (!(body.r >= 3))
             FAIL(SQ_ERR_INVALID, "body line", "the body is %.1f pixels wide at %d px: too thin to see a pattern",
                  2 * body.r, w > h ? w : h);
+        if (L->width > (W0 < H0 ? W0 : H0))
+            FAIL(SQ_ERR_INVALID, "body line", "the body is %.0f pixels wide, wider than the %dx%d photo", L->width, W0,
+                 H0);
+        /* a strip of a sane length: a line may wind, not wind up */
+        double total = 0;
+        for (int k = 0, j = 0; k < L->nstretches; j += L->count[k++])
+            for (int i = 1; i < L->count[k]; i++)
+                total += hypot(L->xy[2 * (j + i)] - L->xy[2 * (j + i - 1)], L->xy[2 * (j + i) + 1] - L->xy[2 * (j + i - 1) + 1]);
+        if (total > 16.0 * (W0 > H0 ? W0 : H0))
+            FAIL(SQ_ERR_INVALID, "body line", "its stretches add up to %.0f pixels, more than 16 times the photo's longest side",
+                 total);
         for (int k = 0, first = 0; k < L->nstretches; first += L->count[k++])
             if (line_curve(L, k, first, scale, body.r, &curves[ncurves++]) != 0)
                 FAIL(SQ_ERR_NOMEM, "body line", "out of memory");
@@ -1366,11 +1385,19 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         if (!body.m8)
             FAIL(SQ_ERR_NOMEM, "body line", "out of memory");
         line_mask(curves, ncurves, body.r, w, h, body.m8);
-        if (mask_in || have_alpha) /* the mask given: body only where it says so too */
-            for (size_t i = 0; i < (size_t)w * h; i++)
+        if (mask_in) { /* the mask given: body only where it says so too */
+            size_t band = 0, kept = 0;
+            for (size_t i = 0; i < (size_t)w * h; i++) {
+                band += body.m8[i] != 0;
                 body.m8[i] &= m8[i];
-        else
+                kept += body.m8[i] != 0;
+            }
+            if (kept < band / 10)
+                FAIL(SQ_ERR_INVALID, "mask", "the mask given covers %.0f%% of the body line's band (10%% at least): do they "
+                     "belong to the same photo?", 100.0 * kept / (double)(band ? band : 1));
+        } else {
             out->mask_source = SQ_MASK_LINE;
+        }
     }
     if (body.m8) {
         for (size_t i = 0; i < (size_t)w * h; i++)

@@ -322,11 +322,47 @@ static void body_line_followed(void **state)
     line.width = 4;
     assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
     assert_contains(err.what, "too thin");
+    line.width = 500;
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "the body is 500 pixels wide, wider than the 640x480 photo");
     line.width = 2 * t.body_radius;
+    const int n0 = line.count[0];
     line.count[0] = 2;
     assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
     assert_contains(err.what, "too short to straighten");
     assert_null(prep.strip.px);
+    /* a line that winds up: corner to corner and back, far longer than any body here */
+    line.count[0] = n0;
+    for (int i = 0; i < n0; i++) {
+        line.xy[2 * i] = i % 2 ? 639 : 0;
+        line.xy[2 * i + 1] = i % 2 ? 479 : 0;
+    }
+    assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "more than 16 times the photo's longest side");
+    /* a mask that misses the line */
+    SqBodyLine fresh;
+    truth_line(&t, &fresh);
+    SqImage away; /* a square in the corner farthest from the body */
+    assert_int_equal(sq_image_alloc(&away, 640, 480, 1, SQ_SPACE_DATA), 0);
+    int far = 0;
+    double farthest = 0;
+    for (int c = 0; c < 4; c++) {
+        double near = 1e9;
+        for (int k = 0; k < t.npoints; k++)
+            near = fmin(near, hypot(t.points[2 * k] - (c & 1) * 640, t.points[2 * k + 1] - (c >> 1) * 480));
+        if (near > farthest) {
+            farthest = near;
+            far = c;
+        }
+    }
+    for (int y = 0; y < 60; y++)
+        for (int x = 0; x < 60; x++)
+            away.px[((far >> 1) ? 479 - y : y) * 640 + ((far & 1) ? 639 - x : x)] = 1;
+    o.line = &fresh;
+    assert_int_equal(sq_fit_prepare(&photo, &away, &o, &prep, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "of the body line's band (10% at least)");
+    sq_image_free(&away);
+    sq_body_line_free(&fresh);
     sq_body_line_free(&again);
     sq_body_line_free(&line);
     sq_image_free(&photo);
