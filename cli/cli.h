@@ -55,15 +55,12 @@ void cli_photo_free(CliPhoto *in);
 /* sq_fit_prepare with what in holds (o NULL: the defaults). */
 SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *prep, SqError *err);
 
-/* Writes dir/line.json, the centre line prep followed (to correct and give back with
- * --line). */
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, SqError *err);
-
-/* line.png: the prepared photo with a grid in the photo's own pixels (labelled), each
- * stretch followed (its centre line in red, its edges dotted in cyan) and the line's
- * points numbered within their stretch: those of given, or else of the line prep
- * followed (as cli_write_line writes them). */
-SqStatus cli_line_picture(const SqPrepared *prep, const SqBodyLine *given, const char *path, SqError *err);
+/* The centre line prep followed, in dir: line.json (a point every half body width, to
+ * correct and give back with --line), unless a line was given (the user's own file, never
+ * overwritten), and line.png: the prepared photo with a grid in the photo's own pixels
+ * (labelled), each stretch followed (its centre line in red, its edges dotted in cyan) and
+ * the line's points (given's, or line.json's) numbered within their stretch. */
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, SqError *err);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

@@ -116,19 +116,6 @@ SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *pre
     return sq_fit_prepare(&in->photo, in->mask.px ? &in->mask : NULL, &po, prep, err);
 }
 
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, SqError *err)
-{
-    char path[4096];
-    if (cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
-        return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
-    SqBodyLine line;
-    SqStatus st = sq_fit_prepared_line(prep, &line, err);
-    if (st == SQ_OK)
-        st = sq_body_line_write(path, &line, err);
-    sq_body_line_free(&line);
-    return st;
-}
-
 /* Where the light comes from, in words: one of eight directions in the photo. */
 static const char *light_words(const float xy[2])
 {
@@ -217,10 +204,7 @@ int cmd_prepare(int argc, char **argv)
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
-        if (rc == CLI_OK && !line_path && cli_write_line(outdir, &prep, &err) != SQ_OK)
-            rc = cli_fail(&err);
-        snprintf(path, sizeof path, "%s/line.png", outdir);
-        if (rc == CLI_OK && cli_line_picture(&prep, line_path ? &in.line : NULL, path, &err) != SQ_OK)
+        if (rc == CLI_OK && cli_write_line(outdir, &prep, line_path ? &in.line : NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "photo", argv[optind]);

@@ -201,12 +201,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         st = sq_io_write_image(path, &prep->strip, NULL, err);
     }
-    if (st == SQ_OK && !line_path) /* a line given is the user's: never overwritten */
-        st = cli_write_line(outdir, prep, err);
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/line.png", outdir);
-        st = cli_line_picture(prep, line_path ? line : NULL, path, err);
-    }
+    if (st == SQ_OK)
+        st = cli_write_line(outdir, prep, line_path ? line : NULL, err);
     if (st != SQ_OK)
         return st;
 

@@ -1,5 +1,5 @@
-/* line.png: the centre line a preparation followed, drawn over the photo for correcting
- * line.json by eye. */
+/* line.json and line.png: the centre line a preparation followed, written to be corrected
+ * and given back, and drawn over the photo to correct it by eye. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,7 +36,8 @@ static void disc(SqImage *img, double cx, double cy, double r, const float c[3])
                 blend(img, x, y, c, 1);
 }
 
-SqStatus cli_line_picture(const SqPrepared *prep, const SqBodyLine *given, const char *path, SqError *err)
+/* line.png, with L's points (L's stretches need not be those followed). */
+static SqStatus line_picture(const SqPrepared *prep, const SqBodyLine *L, const char *path, SqError *err)
 {
     static const float grid_c[3] = {1, 1, 0.3f}, centre_c[3] = {1, 0.15f, 0.1f}, edge_c[3] = {0.2f, 0.9f, 1},
                        ink[3] = {1, 1, 1}, dark[3] = {0, 0, 0};
@@ -77,12 +78,8 @@ SqStatus cli_line_picture(const SqPrepared *prep, const SqBodyLine *given, const
                           (int)floor(c[2 * i + 1] * s + side2 * r * tx / tl), edge_c, 1);
         }
     }
-    /* the line's points (the file's own when one was given), numbered within their stretch */
-    SqBodyLine own = {0};
-    const SqBodyLine *L = given;
-    if (!L && sq_fit_prepared_line(prep, &own, NULL) == SQ_OK)
-        L = &own;
-    for (int k = 0, j = 0; L && k < L->nstretches; k++)
+    /* the line's points, numbered within their stretch */
+    for (int k = 0, j = 0; k < L->nstretches; k++)
         for (int i = 0; i < L->count[k]; i++, j++) {
             const double x = L->xy[2 * j] * s, y = L->xy[2 * j + 1] * s;
             disc(&img, x, y, 3.5, dark);
@@ -97,8 +94,27 @@ SqStatus cli_line_picture(const SqPrepared *prep, const SqBodyLine *given, const
                 sq_io_draw_text(&img, (int)x + 4, (int)y - 4, 11, t, ink, &terr);
             }
         }
-    sq_body_line_free(&own);
     SqStatus st = sq_io_write_image(path, &img, NULL, err);
     sq_image_free(&img);
+    return st;
+}
+
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, SqError *err)
+{
+    char path[4096];
+    SqBodyLine own = {0};
+    SqStatus st = SQ_OK;
+    if (!given) {
+        st = sq_fit_prepared_line(prep, &own, err);
+        if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
+            st = sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+        if (st == SQ_OK)
+            st = sq_body_line_write(path, &own, err);
+    }
+    if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/line.png", dir) != 0)
+        st = sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+    if (st == SQ_OK)
+        st = line_picture(prep, given ? given : &own, path, err);
+    sq_body_line_free(&own);
     return st;
 }

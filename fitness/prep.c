@@ -943,24 +943,31 @@ static int line_curve(const SqBodyLine *L, int k, int first, double scale, doubl
 /* The body a line's curves sweep at radius r: every pixel whose middle lies within r of
  * a point is set in m8 (w x h). The points are a pixel apart; discs a quarter radius apart
  * (and the last) miss at most r / 128 of the edge, at a cost that grows as r, not r^2. */
+static void fill_disc(uint8_t *m8, int w, int h, double cx, double cy, double r)
+{
+    const int y0 = (int)fmax(0, floor(cy - r)), y1 = (int)fmin(h - 1, ceil(cy + r));
+    for (int y = y0; y <= y1; y++) {
+        const double dy = y + 0.5 - cy;
+        if (dy * dy > r * r)
+            continue;
+        const double half = sqrt(r * r - dy * dy);
+        const int x0 = (int)fmax(0, ceil(cx - half - 0.5)), x1 = (int)fmin(w - 1, floor(cx + half - 0.5));
+        if (x1 >= x0)
+            memset(m8 + (size_t)y * w + x0, 255, (size_t)(x1 - x0 + 1));
+    }
+}
+
 static void line_mask(const Curve *curves, int ncurves, double r, int w, int h, uint8_t *m8)
 {
     memset(m8, 0, (size_t)w * h);
     const int every = r > 8 ? (int)(r / 4) : 1;
-    for (int k = 0; k < ncurves; k++)
-        for (int i = 0; i < curves[k].n; i = i + every < curves[k].n || i == curves[k].n - 1 ? i + every : curves[k].n - 1) {
-            const double cx = curves[k].px[i], cy = curves[k].py[i];
-            const int y0 = (int)fmax(0, floor(cy - r)), y1 = (int)fmin(h - 1, ceil(cy + r));
-            for (int y = y0; y <= y1; y++) {
-                const double dy = y + 0.5 - cy;
-                if (dy * dy > r * r)
-                    continue;
-                const double half = sqrt(r * r - dy * dy);
-                const int x0 = (int)fmax(0, ceil(cx - half - 0.5)), x1 = (int)fmin(w - 1, floor(cx + half - 0.5));
-                if (x1 >= x0)
-                    memset(m8 + (size_t)y * w + x0, 255, (size_t)(x1 - x0 + 1));
-            }
-        }
+    for (int k = 0; k < ncurves; k++) {
+        const Curve *c = &curves[k];
+        for (int i = 0; i < c->n; i += every)
+            fill_disc(m8, w, h, c->px[i], c->py[i], r);
+        if ((c->n - 1) % every) /* the last point, when the step passed it */
+            fill_disc(m8, w, h, c->px[c->n - 1], c->py[c->n - 1], r);
+    }
 }
 
 /* The photo's own blur, from the body's outline: across each edge (both sides of the
