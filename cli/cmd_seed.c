@@ -42,8 +42,9 @@ static const char help[] =
     "  category and structure (automaton, reaction-diffusion system, layers) kept; of 4N\n"
     "  such variations, the N most different among the nearer half are kept, each with its\n"
     "  feature distance to PRESET (which grows with D; D itself is a step in the genes).\n"
-    "--from-photo PHOTO fits the generator to the photo (as 'squama fit') and writes the\n"
-    "  fit's Pareto front, best first (at most N of it), each with its distance to the photo.\n"
+    "--from-photo PHOTO fits the generator to the photo (as 'squama fit') and writes its\n"
+    "  best preset, each other kind's best by score, then the rest of the fit's Pareto front\n"
+    "  (at most N of them), each with its distance to the photo.\n"
     "\n"
     "DIR (new or empty) receives, all at once when everything is ready:\n"
     "  NN.json     the presets ('squama render' takes them as they are)\n"
@@ -54,10 +55,10 @@ static const char help[] =
     "options:\n"
     "  -c, --category C     pattern type of the presets, or layered\n"
     "      --near PRESET    variations around this preset\n"
-    "      --from-photo P   the fitted front of this photo\n"
+    "      --from-photo P   the fit of this photo: its best, each kind's best, its front\n"
     "  -o, --output DIR     where the presets go (required; new or empty)\n"
-    "  -n N                 how many presets, 1 to 256 (default 12; --from-photo: the\n"
-    "                       whole front, at most 24)\n"
+    "  -n N                 how many presets, 1 to 256 (default 12; --from-photo: all\n"
+    "                       the fit offers, at most 24)\n"
     "  -d, --distance D     --near: the genes' step, 0.01 to 1 (default 0.1)\n"
     "  -s, --seed S         the seed of every random choice (default 1)\n"
     "      --pool K         candidates drawn per preset (default 12; --near 4)\n"
@@ -210,8 +211,11 @@ static cJSON *summary(const Seeding *s)
             cJSON_AddItemToObject(e, "contrast", sq__json_exact_number(c->contrast));
         }
         if (s->fit) {
-            const SqFitCandidate *f = &s->fit->front[c->source];
-            cJSON_AddNumberToObject(e, "front_index", c->source);
+            const SqFitCandidate *f = c->fitted;
+            if (c->source >= 0)
+                cJSON_AddNumberToObject(e, "front_index", c->source);
+            else
+                cJSON_AddBoolToObject(e, "kind_best", 1); /* its kind's best, not in the front */
             cJSON *o = cJSON_AddObjectToObject(e, "objectives");
             for (int k = 0; k < SQ_OBJ_COUNT; k++)
                 cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(f->obj[k]));
@@ -248,12 +252,19 @@ static void preset_info(const Seeding *s, int i, SqPresetInfo *info)
                  s->origin, s->distance, (unsigned long long)s->seed, s->distance, c->to_origin, near);
         break;
     default:
-        snprintf(info->name, sizeof info->name, "fit of %.200s, front %02d", s->origin_name, i);
-        snprintf(info->notes, sizeof info->notes,
-                 "squama seed --from-photo %s --seed %llu: member %d of the fit's Pareto front (best first), view "
-                 "scale %.3f; distance to the photo %.3f%s",
-                 s->origin, (unsigned long long)s->seed, c->source, s->fit->front[c->source].view_scale, c->to_origin,
-                 near);
+        if (c->source < 0) {
+            snprintf(info->name, sizeof info->name, "fit of %.200s, the best %s skin", s->origin_name, cat);
+            snprintf(info->notes, sizeof info->notes,
+                     "squama seed --from-photo %s --seed %llu: the fit's best %s skin (each kind's best follows "
+                     "the champion), view scale %.3f; distance to the photo %.3f%s",
+                     s->origin, (unsigned long long)s->seed, cat, c->fitted->view_scale, c->to_origin, near);
+        } else {
+            snprintf(info->name, sizeof info->name, "fit of %.200s, front %02d", s->origin_name, c->source);
+            snprintf(info->notes, sizeof info->notes,
+                     "squama seed --from-photo %s --seed %llu: member %d of the fit's Pareto front (best first), "
+                     "view scale %.3f; distance to the photo %.3f%s",
+                     s->origin, (unsigned long long)s->seed, c->source, c->fitted->view_scale, c->to_origin, near);
+        }
         break;
     }
 }

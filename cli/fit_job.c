@@ -29,8 +29,7 @@ typedef struct Ctx {
     char checkpoint_error[SQ_ERROR_WHAT_MAX + SQ_ERROR_WHERE_MAX + 8];
 } Ctx;
 
-/* Writes a candidate as a preset file (atomic). */
-static SqStatus write_preset(const char *path, const SqFitCandidate *c, const char *name, SqError *err)
+SqStatus cli_fit_write_preset(const char *path, const SqFitCandidate *c, const char *name, SqError *err)
 {
     SqPresetInfo info = {0};
     snprintf(info.name, sizeof info.name, "%s", name);
@@ -68,7 +67,7 @@ static void write_checkpoint(Ctx *x, const SqFitProgress *p)
     cJSON_AddNumberToObject(root, "evaluations", (double)p->evals);
     for (int i = 0; i < p->nfront; i++) {
         snprintf(path, sizeof path, "%s/checkpoint/%02d.json", x->outdir, i);
-        if (write_preset(path, &p->front[i], "checkpoint", &err) != SQ_OK) {
+        if (cli_fit_write_preset(path, &p->front[i], "checkpoint", &err) != SQ_OK) {
             snprintf(x->checkpoint_error, sizeof x->checkpoint_error, "%s (%s)", err.what, err.where);
             continue;
         }
@@ -137,7 +136,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         snprintf(path, sizeof path, "%s/front/%02d.json", outdir, i);
         char name[64];
         snprintf(name, sizeof name, "front %d of the fit", i);
-        SqStatus st = write_preset(path, &r->front[i], name, err);
+        SqStatus st = cli_fit_write_preset(path, &r->front[i], name, err);
         if (st != SQ_OK)
             return st;
     }
@@ -145,7 +144,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     const char *base = strrchr(photo_path, '/');
     char name[256];
     snprintf(name, sizeof name, "fit of %s", base ? base + 1 : photo_path);
-    SqStatus st = write_preset(path, &r->best, name, err);
+    SqStatus st = cli_fit_write_preset(path, &r->best, name, err);
     if (st != SQ_OK)
         return st;
 
@@ -173,6 +172,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     }
     sq_image_free(&strip);
     sq_gen_textures_free(&tex);
+    if (st == SQ_OK)
+        st = cli_fit_write_kinds(outdir, prep, fo->band_centre, r, size, base ? base + 1 : photo_path, err);
     if (st == SQ_OK) {
         SqPhotoOptions po = sq_fit_photo_options_default();
         po.width = 1024;
@@ -297,6 +298,18 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         if (isfinite(r->category_score[c]))
             cJSON_AddItemToObject(cs, sq_fit_kind_name(c), sq__json_exact_number(r->category_score[c]));
+    cJSON *kb = cJSON_AddObjectToObject(root, "kinds"); /* each kind's best, best.json for its own */
+    for (int c = 0; c < SQ_FIT_KINDS; c++) {
+        const SqFitCandidate *k = &r->kind_best[c];
+        if (!isfinite(k->score))
+            continue;
+        cJSON *e = cJSON_AddObjectToObject(kb, sq_fit_kind_name(c));
+        snprintf(path, sizeof path, "kinds/%s.json", sq_fit_kind_name(c));
+        cJSON_AddStringToObject(e, "preset", path);
+        cJSON_AddItemToObject(e, "score", sq__json_exact_number(k->score));
+        cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(k->view_scale));
+        cJSON_AddItemToObject(e, "objectives", objectives_json(k->obj));
+    }
     cJSON *ni = cJSON_AddArrayToObject(root, "niches");
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         if (r->niche[c])

@@ -110,6 +110,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     cli_buf_put(&b, "</title>\n<style>body{font-family:sans-serif;margin:24px;color:#222}"
             "figure{display:inline-block;margin:0 12px 12px 0;vertical-align:top}"
             "figure img{max-height:320px;max-width:420px;border:1px solid #ccc;image-rendering:auto}"
+            "figure img.wide{max-height:none;max-width:100%%}"
             "figcaption{font-size:12px;color:#555}table{border-collapse:collapse;font-size:13px}"
             "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}th{background:#eee}"
             "td.l{text-align:left}.plots svg{margin-right:16px}</style></head><body>\n");
@@ -188,11 +189,19 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
                             "gains up to that)");
         cli_buf_put(&b, ".</p>\n");
     }
-    cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>evolved</th></tr>\n");
+    cli_buf_put(&b, "<figure><a href='kinds.png'><img class='wide' src='kinds.png' alt='each kind&#39;s best'></a>"
+            "<figcaption>The straightened body and, under it, each kind's best fit seen the same way (the first "
+            "twelve body widths); best.json's kind in green. Each is a preset in kinds/.</figcaption></figure>\n");
+    cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>preset</th><th>view scale</th>"
+            "<th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
-        if (!isfinite(r->category_score[c]))
+        const SqFitCandidate *k = &r->kind_best[c];
+        if (!isfinite(k->score))
             continue;
-        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'>", sq_fit_kind_name(c), r->category_score[c]);
+        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'><a href='kinds/%s.json'>kinds/%s.json</a>%s</td>"
+                "<td>%.2f</td><td class='l'>",
+            sq_fit_kind_name(c), k->score, sq_fit_kind_name(c), sq_fit_kind_name(c),
+            c == sq_fit_kind_of(&r->best.params) ? " (best.json)" : "", k->view_scale);
         if (r->survivor[c])
             cli_buf_put(&b, "to the end");
         else if (r->dropped_at[c] > 0)

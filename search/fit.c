@@ -1369,6 +1369,16 @@ static void polish(Fit *f, SqFitCandidate *champ)
  * row 37 of the recovery benchmark (seed 1) it found bands under spots at 1.52 against the
  * bands' 1.99, where the niches' population (17 here) ended at 1.99 (session 23). */
 enum { LAYER_STARTS = 8, LAYER_LAMBDA = 4 };
+/* c, re-scored, as its kind's best when it scores better than the best so far. */
+static void keep_kind_best(SqFitResult *r, const SqFitCandidate *c)
+{
+    const int kind = sq_fit_kind_of(&c->params);
+    if (c->score < r->kind_best[kind].score) {
+        r->kind_best[kind] = *c;
+        r->category_score[kind] = c->score;
+    }
+}
+
 static const double LAYER_SHARE = 0.5, LAYER_LEAD = 0.2, LAYER_VIEW = 1.05, LAYER_VISIBLE = 0.05;
 
 /* c with src's pattern as its one layer, blended normally at full opacity. */
@@ -1514,7 +1524,7 @@ static void layer_search(Fit *f, const SqFitCandidate *fin, int nfin, const SqFi
     r->layer_under = champ.score;
     r->layer_base = base;
     r->layer_kind = best.params.Pattern_Layers.layer[0].spec.Pattern_Type;
-    r->category_score[SQ_FIT_LAYERED] = fmin(r->category_score[SQ_FIT_LAYERED], best.score);
+    keep_kind_best(r, &best);
     if (!(best.score * (1 + LAYER_LEAD) < champ.score))
         return;
     r->layer_visibility = sq_fit_layer_visibility(&best.params, f->o.fine_size, f->o.band_centre, NULL);
@@ -1723,12 +1733,12 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
         r->nfront = f->o.front_max;
     r->best = r->front[0];
     /* the categories' scores: re-scored values only (screening scores are noisier) */
-    for (int i = 0; i < CATEGORIES; i++)
+    for (int i = 0; i < CATEGORIES; i++) {
         r->category_score[i] = INFINITY;
-    for (int i = 0; i < nfin; i++) {
-        int cat = sq_fit_kind_of(&fin[i].params);
-        r->category_score[cat] = fmin(r->category_score[cat], fin[i].score);
+        r->kind_best[i].score = INFINITY;
     }
+    for (int i = 0; i < nfin; i++)
+        keep_kind_best(r, &fin[i]);
     return SQ_OK;
 }
 
@@ -1882,6 +1892,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         report(&f, "polish", sq_fit_kind_of(&out->best.params));
     }
     plain_twin(&f);
+    out->kind_best[sq_fit_kind_of(&out->best.params)] = out->best; /* what best.json is */
     out->evals = f.evals;
 
 done:

@@ -700,6 +700,15 @@ SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResu
     return st;
 }
 
+/* Where c stands in the fit's front, or -1. */
+static int front_index(const SqFitResult *fit, const SqFitCandidate *c)
+{
+    for (int i = 0; i < fit->nfront; i++)
+        if (fit->front[i].view_scale == c->view_scale && sq_params_equal(&fit->front[i].params, &c->params))
+            return i;
+    return -1;
+}
+
 SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeedResult *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
@@ -711,26 +720,52 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
         return sq_error_set(err, SQ_ERR_INVALID, "seed", "the fit has no front");
     if ((st = run_begin(&r, o, out, err)) != SQ_OK)
         return st;
-    /* the first o->n distinct presets: a front holds each candidate once, but one preset
-     * may stand in it at two view scales, and a preset sheet shows no view scale */
-    int n = 0;
-    int *ok = malloc(sizeof(int) * (size_t)fit->nfront), *pick = malloc(sizeof(int) * (size_t)fit->nfront);
-    out->pool = malloc(sizeof *out->pool * (size_t)fit->nfront);
-    if (!ok || !pick || !out->pool) {
+    /* the offers: the champion, each other kind's best by score (the front may hold one or
+     * two kinds only, and an artist may know the snake's kind better than the fit), then
+     * the rest of the front */
+    const int champion = sq_fit_kind_of(&fit->front[0].params), most = fit->nfront + SQ_FIT_KINDS;
+    int n = 0, noffer = 0, *from = malloc(sizeof(int) * (size_t)most);
+    const SqFitCandidate **offer = malloc(sizeof *offer * (size_t)most);
+    int *ok = malloc(sizeof(int) * (size_t)most), *pick = malloc(sizeof(int) * (size_t)most);
+    out->pool = malloc(sizeof *out->pool * (size_t)most);
+    if (!from || !offer || !ok || !pick || !out->pool) {
+        free(from);
+        free(offer);
         st = sq_error_set(err, SQ_ERR_NOMEM, "seed", "out of memory");
         goto done;
     }
-    for (int i = 0; i < fit->nfront && n < o->n; i++) {
+    from[noffer] = 0;
+    offer[noffer++] = &fit->front[0];
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        if (k != champion && isfinite(fit->kind_best[k].score)) {
+            int j = noffer++;
+            for (; j > 1 && offer[j - 1]->score > fit->kind_best[k].score; j--) {
+                offer[j] = offer[j - 1];
+                from[j] = from[j - 1];
+            }
+            offer[j] = &fit->kind_best[k];
+            from[j] = front_index(fit, &fit->kind_best[k]);
+        }
+    for (int i = 1; i < fit->nfront; i++) {
+        from[noffer] = i;
+        offer[noffer++] = &fit->front[i];
+    }
+    /* the first o->n distinct presets: one preset may stand in the front at two view
+     * scales, and a kind's best in the front too, and a preset sheet shows no view scale */
+    for (int i = 0; i < noffer && n < o->n; i++) {
         int seen = 0;
         for (int j = 0; j < n && !seen; j++)
-            seen = sq_params_equal(&out->pool[j].params, &fit->front[i].params);
+            seen = sq_params_equal(&out->pool[j].params, &offer[i]->params);
         if (seen)
             continue;
-        out->pool[n].params = fit->front[i].params;
-        out->pool[n].source = i;
+        out->pool[n].params = offer[i]->params;
+        out->pool[n].source = from[i];
+        out->pool[n].fitted = offer[i];
         pick[n] = n;
         n++;
     }
+    free(from);
+    free(offer);
     render_all(&r, out->pool, n, ok, 0, n);
     for (int i = 0; i < n; i++)
         if (!ok[i]) {
@@ -738,7 +773,7 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
             goto done;
         }
     for (int i = 0; i < n; i++)
-        out->pool[i].to_origin = sq_seed_objective_distance(fit->front[out->pool[i].source].obj);
+        out->pool[i].to_origin = sq_seed_objective_distance(out->pool[i].fitted->obj);
     out->npool = out->drawn = n;
     st = gather(out, out->pool, pick, n, err);
 done:

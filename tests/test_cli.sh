@@ -218,10 +218,11 @@ run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 6
 check "fit" 0 out "evaluations" out "report: $TMP/fit/report.html"
 for f in best.json fit.json front/00.json basecolor.png height.png roughness.png normal.png \
          preview.png photo.jpg mask.png strip.png fitted_strip.png line.json line.png report.html \
-         checkpoint/checkpoint.json; do
+         kinds.png kinds/none.json checkpoint/checkpoint.json; do
   [ -s "$TMP/fit/$f" ] || { echo "FAIL: fit did not write $f"; fails=$((fails + 1)); }
 done
 run render "$TMP/fit/best.json" -o "$TMP/fit/r" --size 32; check "render the fitted preset" 0
+run render "$TMP/fit/kinds/none.json" -o "$TMP/fit/r" --size 32; check "render a kind's best" 0
 if command -v python3 >/dev/null; then
   python3 - "$TMP/fit/fit.json" "$TMP/fit/report.html" <<'PY' || { echo "FAIL: fit.json content"; fails=$((fails + 1)); }
 import json, sys
@@ -231,12 +232,30 @@ assert set(f["objectives"]) == {"palette", "histogram", "shape", "along", "acros
 s = f["search"]
 assert s["evaluations"] <= 300 and s["seed"] == 1 and f["view_scale"] > 0
 assert f["category"] in f["category_scores"]
+# each kind's best as a preset; the chosen kind's is best.json, the others' the scores compared
+import os, struct
+here = os.path.dirname(sys.argv[1])
+k = f["kinds"]
+assert set(k) == set(f["category_scores"]) | {f["category"]}, (k, f["category_scores"])
+def params(path):
+    d = json.load(open(os.path.join(here, path)))
+    return {x: v for x, v in d.items() if x not in ("name", "notes")}
+for kind, e in k.items():
+    assert e["preset"] == "kinds/%s.json" % kind and e["view_scale"] > 0, e
+    assert set(e["objectives"]) == set(f["objectives"])
+    if kind == f["category"]:
+        assert e["score"] == f["score"] and params(e["preset"]) == params("best.json"), kind
+    else:
+        assert e["score"] == f["category_scores"][kind], (kind, e["score"])
+png = open(os.path.join(here, "kinds.png"), "rb").read(24)  # a row for the photo and each kind
+assert png[:8] == b"\x89PNG\r\n\x1a\n" and struct.unpack(">I", png[20:24])[0] == 20 + (1 + len(k)) * 72 - 8
 d = f["drops"]  # the niches dropped, in order, none of them a survivor
 assert all(x["category"] in f["niches"] and x["judged"] > 0 for x in d), d
 assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
 assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html and "at the fitted view scale" in html
 assert "line.png" in html
+assert "kinds.png" in html and all("kinds/%s.json" % x in html for x in k)
 assert "layer" in s["seconds"]
 l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
 if l is not None:
@@ -322,6 +341,16 @@ fi
 run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2
 check "seed --from-photo" 0 out "to photo" out "wrote $TMP/sdp:"
 [ -s "$TMP/sdp/00.json" ] && [ -s "$TMP/sdp/sheet.png" ] || { echo "FAIL: seed --from-photo files"; fails=$((fails + 1)); }
+if command -v python3 >/dev/null; then  # the champion, then other kinds' bests by score
+  python3 - "$TMP/sdp/seeds.json" <<'PY' || { echo "FAIL: seed --from-photo offers"; fails=$((fails + 1)); }
+import json, sys
+p = json.load(open(sys.argv[1]))["presets"]
+assert len(p) == 3 and p[0].get("front_index") == 0, p
+assert len({x["category"] for x in p}) == 3, p
+assert p[1]["score"] <= p[2]["score"], p
+assert all(("front_index" in x) != x.get("kind_best", False) for x in p), p
+PY
+fi
 run seed --from-photo "$TMP/none.jpg" --evals 150 -o "$TMP/sdp2"; check "seed --from-photo missing photo" 1 err "cannot open image"
 [ -e "$TMP/sdp2" ] && { echo "FAIL: a failed seed --from-photo wrote its folder"; fails=$((fails + 1)); }
 

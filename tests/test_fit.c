@@ -71,6 +71,27 @@ static void assert_plain_rule(const SqFitResult *r)
     }
 }
 
+/* Each kind's best: of its kind, valid, behind its category's score (the champion stands
+ * for its own kind: the polish may have moved it on). */
+static void assert_kind_bests(const SqFitResult *r)
+{
+    const int champion = sq_fit_kind_of(&r->best.params);
+    for (int k = 0; k < SQ_FIT_KINDS; k++) {
+        const SqFitCandidate *c = &r->kind_best[k];
+        assert_int_equal(isfinite(c->score) != 0, isfinite(r->category_score[k]) != 0 || k == champion);
+        if (!isfinite(c->score))
+            continue;
+        assert_int_equal(sq_fit_kind_of(&c->params), k);
+        assert_int_equal(sq_params_validate(&c->params, NULL), SQ_OK);
+        assert_true(c->view_scale >= 0.25 && c->view_scale <= 8);
+        if (k == champion) {
+            assert_memory_equal(c, &r->best, sizeof *c);
+        } else {
+            assert_true(c->score == r->category_score[k]);
+        }
+    }
+}
+
 /* The layer over the champion, when layered skins are asked for: searched over a stripe,
  * band or spot champion (over an automaton champion, the best of those finalists), within
  * its share of the evaluation budget, and leading exactly when it beats the champion by
@@ -113,6 +134,7 @@ static void recovers_category(void **state)
            sq_pattern_type_name(r.best.params.Pattern_Type), r.best.view_scale, r.best.score, r.evals, r.nfront);
     assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
     assert_plain_rule(&r);
+    assert_kind_bests(&r);
     /* stripes along the body look the same at any view scale: it is not checked here */
     assert_true(r.best.view_scale >= 0.25 && r.best.view_scale <= 8);
     assert_true(r.evals > 1400 && r.evals <= 1500); /* the budget holds */
@@ -192,6 +214,7 @@ static void prefers_a_plain_skin(void **state)
     for (int c = 0; c < SQ_PATTERN_COUNT; c++) /* within 30% of every other category */
         assert_true(r.best.score <= 1.30 * r.category_score[c] + 1e-9);
     assert_plain_rule(&r);
+    assert_kind_bests(&r);
     sq_fit_result_free(&r);
 }
 
@@ -354,6 +377,7 @@ static void categories_fitted(void **state)
         assert_true(r.niche[c]);
     }
     assert_layer_rule(&r, &o);
+    assert_kind_bests(&r);
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
     sq_fit_result_free(&r);
     o.categories = 0; /* the default: the six categories, no layered niche, but a layer over the champion */
@@ -361,6 +385,7 @@ static void categories_fitted(void **state)
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
     assert_layer_rule(&r, &o);
+    assert_kind_bests(&r);
     assert_int_equal(r.best.params.Pattern_Layers.count, r.layer_lead);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
@@ -468,6 +493,7 @@ static void a_layer_is_searched_over_the_champion(void **state)
            r.layer_evals, r.layer_lead ? ", leads" : "", sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.evals);
     assert_true(r.layer_searched);
     assert_layer_rule(&r, &o);
+    assert_kind_bests(&r);
     assert_true(r.layer_score < r.layer_under);
     sq_fit_result_free(&r);
 }

@@ -278,14 +278,15 @@ static void near_variations(void **state)
     sq_seed_result_free(&r);
 }
 
-/* The front of a fit as seeds: in order, each once, each with its objectives' distance to
- * the photo. */
+/* What a fit offers as seeds: its champion, each other kind's best by score, the rest of
+ * its front; each once, each with its objectives' distance to the photo. */
 static void from_fit(void **state)
 {
     (void)state;
     char path[4096];
     SqFitCandidate front[4];
     SqError err;
+    memset(front, 0, sizeof front);
     const char *files[] = {"presets/thesis/table_4_4_spots.json", "presets/thesis/table_4_3_longitudinal.json",
                            "presets/thesis/table_4_1_transversal.json"};
     for (int i = 0; i < 3; i++) {
@@ -293,10 +294,16 @@ static void from_fit(void **state)
         assert_int_equal(sq_preset_load(src_path(path, sizeof path, files[i]), &front[k].params, NULL, &err), SQ_OK);
         for (int j = 0; j < SQ_OBJ_COUNT; j++)
             front[k].obj[j] = 0.1 * (k + 1);
+        front[k].score = 0.1 * (k + 1);
         front[k].view_scale = 1;
     }
     front[1] = front[0];
     SqFitResult fit = {.front = front, .nfront = 4, .best = front[0]};
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        fit.kind_best[k].score = INFINITY;
+    fit.kind_best[SQ_PATTERN_SPOTS] = front[0];
+    fit.kind_best[SQ_PATTERN_LONGITUDINAL] = front[2];
+    fit.kind_best[SQ_PATTERN_TRANSVERSAL] = front[3];
     SqSeedResult r;
     SqSeedOptions o = small(2, 2);
     assert_int_equal(sq_seed_from_fit(&fit, &o, &r, &err), SQ_OK);
@@ -313,6 +320,24 @@ static void from_fit(void **state)
     o.n = 10; /* more than the front: the whole front, once each */
     assert_int_equal(sq_seed_from_fit(&fit, &o, &r, &err), SQ_OK);
     assert_int_equal(r.n, 3);
+    sq_seed_result_free(&r);
+    /* a plain skin's best, not in the front, scoring between the stripes and the bands:
+     * offered after the stripes and before the bands, which the front would have put first */
+    SqFitCandidate plain = front[2];
+    plain.params.Pattern_Type = SQ_PATTERN_NONE;
+    plain.score = 0.35;
+    for (int j = 0; j < SQ_OBJ_COUNT; j++)
+        plain.obj[j] = 0.35;
+    fit.kind_best[SQ_PATTERN_NONE] = plain;
+    front[2].score = front[3].score = 0.5; /* the order is the kind bests' scores, not these */
+    assert_int_equal(sq_seed_from_fit(&fit, &o, &r, &err), SQ_OK);
+    assert_int_equal(r.n, 4);
+    const int want[] = {0, 2, -1, 3};
+    for (int i = 0; i < 4; i++)
+        assert_int_equal(r.picks[i].source, want[i]);
+    assert_true(sq_params_equal(&r.picks[2].params, &plain.params));
+    assert_ptr_equal(r.picks[2].fitted, &fit.kind_best[SQ_PATTERN_NONE]);
+    assert_true(fabs(r.picks[2].to_origin - sq_seed_objective_distance(plain.obj)) < 1e-12);
     sq_seed_result_free(&r);
 }
 

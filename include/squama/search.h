@@ -353,7 +353,11 @@ typedef struct SqFitResult {
     SqFitCandidate *front;   /* the re-scored Pareto front, by score (best first) */
     int nfront;
     double norm[SQ_OBJ_COUNT]; /* each objective's median over the screening: the score's scale */
-    double category_score[SQ_FIT_KINDS]; /* best score per kind; INFINITY: not tried */
+    double category_score[SQ_FIT_KINDS]; /* best score per kind, as the pick rule compared
+                                            them (before the polish); INFINITY: not tried */
+    SqFitCandidate kind_best[SQ_FIT_KINDS]; /* each kind's best, re-scored (score INFINITY:
+                                               not tried): the champion for its own kind,
+                                               else the candidate behind category_score */
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
     int survivor[SQ_FIT_KINDS]; /* 1: still evolving when stage 2 ended */
     long dropped_at[SQ_FIT_KINDS]; /* evaluations done when the niche was dropped; 0: it was not */
@@ -475,7 +479,10 @@ typedef struct SqSeedCandidate {
     int nearest_index;  /* that pick's index, or -1 */
     double to_origin;   /* sq_seed_near: feature distance to the origin; NAN otherwise */
     int source;         /* which one it was: the draw's number (from 0), or the index of
-                           the fit's front member (sq_seed_from_fit) */
+                           the fit's front member (sq_seed_from_fit; -1: a kind's best not
+                           in the front) */
+    const SqFitCandidate *fitted; /* sq_seed_from_fit: the fit's candidate it is (in the
+                                     fit's front or kind_best); else NULL */
 } SqSeedCandidate;
 
 typedef struct SqSeedResult {
@@ -510,7 +517,8 @@ SqStatus sq_seed_category(int category, const SqSeedOptions *o, SqSeedResult *ou
 /* n variations around origin (valid; any category), each with its distance to it. */
 SqStatus sq_seed_near(const SqParams *origin, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
 
-/* The first n distinct members of a fit's front (all of them when it has fewer), each with its
+/* The first n distinct presets a fit offers (all of them when it offers fewer): its
+ * champion, each other kind's best by score, then the rest of its front; each with its
  * distance to the photo (sq_seed_objective_distance of its objectives, in to_origin) and
  * to the nearest other; coverage and contrast as for sq_seed_category. */
 SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeedResult *out, SqError *err);
