@@ -6,9 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "batch.h"
 #include "buf.h"
+#include "cli.h"
 #include "squama/io.h"
 
 void batch_confusion(const CliManifestRow *rows, const BatchResult *res, int n, BatchConfusion *c)
@@ -125,6 +127,22 @@ static void confusion_html(CliBuf *b, const BatchConfusion *c, int errors, int w
     cli_buf_put(b, ".</p>\n");
 }
 
+/* A row fitted to another category than expected: links to each kind's best, and to the
+ * expected kind's best preset when the fit tried that kind. */
+static void differs_html(CliBuf *b, const char *outdir, const char *id, int expected)
+{
+    char path[4096];
+    cli_buf_put(b, "category differs: <a href='");
+    cli_buf_html(b, id);
+    cli_buf_put(b, "/kinds.png'>each kind's best</a>");
+    if (cli_pathf(path, sizeof path, "%s/%s/kinds/%s.json", outdir, id, cat_name(expected)) == 0 &&
+        access(path, R_OK) == 0) {
+        cli_buf_put(b, ", <a href='");
+        cli_buf_html(b, id);
+        cli_buf_put(b, "/kinds/%s.json'>the best %s</a>", cat_name(expected), cat_name(expected));
+    }
+}
+
 static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n, SqError *err)
 {
     CliBuf b = {0};
@@ -184,8 +202,10 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
                 cli_buf_html(&b, id);
                 cli_buf_put(&b, "/%s' alt=''></a></td>", th[k]);
             }
-            cli_buf_put(&b, "<td>%s</td></tr>\n",
-                        rows[i].expected >= 0 && rows[i].expected != r->fitted ? "category differs" : "");
+            cli_buf_put(&b, "<td>");
+            if (rows[i].expected >= 0 && rows[i].expected != r->fitted)
+                differs_html(&b, outdir, id, rows[i].expected);
+            cli_buf_put(&b, "</td></tr>\n");
         } else {
             cli_buf_put(&b, "<td></td><td colspan='4'></td><td>");
             cli_buf_html(&b, r->error);

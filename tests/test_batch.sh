@@ -63,7 +63,7 @@ if [ "$PART" = local ]; then
   echo "not an image" >"$TMP/photos/text.jpg"
   printf '%s\r\n' 'Species,FILE,ID,Category,mask,notes' \
     '"Banded, synthetic",photos/bands.jpg,bands,transversal,photos/bands_mask.png,"a ""quoted"" note"' \
-    'Striped,photos/stripes.jpg,stripes,longitudinal,,' \
+    'Striped,photos/stripes.jpg,stripes,spots,,' \
     'Gone,photos/gone.jpg,gone,none,,' \
     'Text,photos/text.jpg,text,,,' \
     'Masked,photos/bands.jpg,badmask,,'"$SRC"'/tests/data/orient6.jpg,' \
@@ -94,7 +94,8 @@ for k, w in want.items():
     assert w in errors.get(k, ""), (k, errors.get(k))
 for f in ["best.json", "fit.json", "front/00.json", "basecolor.png", "height.png", "roughness.png", "normal.png",
           "preview.png", "photo.jpg", "mask.png", "strip.png", "fitted_strip.png", "report.html",
-          "thumb_photo.png", "thumb_strips.png", "thumb_texture.png", "thumb_preview.png", "done.json"]:
+          "thumb_photo.png", "thumb_strips.png", "thumb_texture.png", "thumb_preview.png", "done.json",
+          "kinds.png", "kinds/transversal.json"]:
     for row in ("bands", "stripes"):
         assert os.path.getsize(f"{d}/{row}/{f}") > 0, (row, f)
 assert not [n for n in os.listdir(d) if n.startswith(".tmp-")], os.listdir(d)
@@ -103,6 +104,10 @@ assert "bands/thumb_texture.png" in html and "stripes/report.html" in html and "
 assert "expected \\ fitted" in html and "Overall:" in html and "data-f='spots'" in html and "<script>" in html
 assert "http" not in html.replace("http-equiv", ""), "index.html must not load anything from the network"
 assert "the mask is 4x8" in html
+if b["fitted"] != "transversal":  # the expected kind's best, a click away
+    assert "category differs: <a href='bands/kinds.png'>" in html and "bands/kinds/transversal.json" in html
+# spots were not searched: each kind's best, but no spots preset to link to
+assert "category differs: <a href='stripes/kinds.png'>" in html and "stripes/kinds/spots.json" not in html
 PY
   grep -q '"id":"gone".*"status":"error"' "$out" || fail "no JSON line for the missing photo"
 
