@@ -86,8 +86,8 @@ def fit(args, photo, mask, out, extra):
         return json.load(f)
 
 
-def compare(args, truth, view_t, fitted, photo, mask, norm):
-    out = subprocess.run([args.tool, "compare", truth, "%.6f" % view_t, os.path.join(fitted["dir"], "best.json"),
+def compare(args, truth, view_t, fitted, photo, mask, norm, preset="best.json"):
+    out = subprocess.run([args.tool, "compare", truth, "%.6f" % view_t, os.path.join(fitted["dir"], preset),
                           "%.6f" % fitted["view_scale"], photo, mask] + ["%.9g" % norm[k] for k in OBJECTIVES],
                          capture_output=True, text=True)
     if out.returncode != 0:
@@ -119,6 +119,27 @@ def truth_at_best_view(args, photo, mask, truth, norm):
         sys.exit("recovery: score failed: " + out.stderr)
     o = json.loads(out.stdout)[0]["objectives"]
     return sum(o[k] / norm[k] for k in OBJECTIVES)
+
+
+def niche_best(args, truth, view_t, sq, cat, photo, mask, norm):
+    """The truth's kind's best in the fit (kinds/CAT.json, at its view scale) against the photo,
+    scored as the fit is: how near the truth's own niche came. None when the fit has no such
+    kind (a fit before kinds/, or the kind not searched)."""
+    k = sq.get("kinds", {}).get(cat)
+    if k is None:
+        return None
+    c = compare(args, truth, view_t, {"dir": sq["dir"], "view_scale": k["view_scale"]}, photo, mask, norm,
+                k["preset"])
+    return c["photo_fit"]
+
+
+def kind_rank(sq, cat):
+    """Where the truth's kind stands among the kinds the fit offers (kinds/, as squama seed
+    --from-photo offers them): 0 the champion's, then the others by score; None when the
+    kind was not searched."""
+    scores = {k: v["score"] for k, v in sq["kinds"].items()} if "kinds" in sq else dict(sq["category_scores"])
+    order = [sq["category"]] + sorted((k for k in scores if k != sq["category"]), key=scores.get)
+    return order.index(cat) if cat in order else None
 
 
 def blame(row):
@@ -223,8 +244,10 @@ def main():
                "evals": sq["search"]["evaluations"], "view_t": view_t, "view_f": sq["view_scale"]}
         row.update(compare(args, truth, view_t, sq, photo, mask, norm))
         row["scales_across"], row["scales_along"] = scale_errors(truth, view_t, sq)
+        row["kind_rank"] = kind_rank(sq, cat)
         if row["fitted"] != cat:
             row["photo_truth_grid"] = truth_at_best_view(args, photo, mask, truth, norm)
+            row["photo_niche"] = niche_best(args, truth, view_t, sq, cat, photo, mask, norm)
         row["baselines"] = {}
         if args.baseline_every and i % args.baseline_every == 0:
             for m in BASELINES:
@@ -237,8 +260,9 @@ def main():
               (i + 1, args.n, cat, sq["category"], row["palette_de00"], row["ratio"], view_t, sq["view_scale"],
                row["evals"], " ".join("%s %.2f" % (m, v["score"] / sq["score"]) for m, v in
                                       row["baselines"].items()),
-               "" if row["fitted"] == cat else "  [%s: fit %.2f truth %.2f]" % (blame(row), row["photo_fit"],
-                                                                                truth_score(row)),
+               "" if row["fitted"] == cat else "  [%s: fit %.2f truth %.2f%s]" % (
+                   blame(row), row["photo_fit"], truth_score(row),
+                   "" if row.get("photo_niche") is None else ", its kind's best %.2f" % row["photo_niche"]),
                (time.time() - t0) / 60),
               file=sys.stderr, flush=True)
 
@@ -266,12 +290,25 @@ def main():
               "view scale and at the grid's best (the fitness prefers the wrong answer), %d where the search "
               "missed a better one" %
               (len(wrong), fitness, len(wrong) - fitness))
+        searched = [r for r in wrong if blame(r) == "search" and r.get("photo_niche") is not None]
+        if searched:
+            near = sum(r["photo_niche"] <= truth_score(r) for r in searched)
+            print("of those %d with the truth's kind's best (kinds/): %d where it scores as well as the truth or "
+                  "better (its niche found it; the pick chose another kind), %d where it scores worse (its "
+                  "niche never came as near)" % (len(searched), near, len(searched) - near))
+    ranked = [r["kind_rank"] for r in rows if r.get("kind_rank") is not None]
+    if ranked:
+        print("\nthe truth's kind among the kinds offered (best.json's, then each other kind's best by score): "
+              "first %d, in the first two %d, in the first three %d, of %d" %
+              (sum(k == 0 for k in ranked), sum(k <= 1 for k in ranked), sum(k <= 2 for k in ranked), len(ranked)))
     acc = sum(r["fitted"] == r["category"] for r in rows) / len(rows)
     result = ["n=%d" % len(rows), "budget=%s" % (("%devals" % args.evals) if args.evals else args.budget), "accuracy=%.3f" % acc,
               "de00_median=%.2f" % med([r["palette_de00"] for r in rows]),
               "ratio_median=%.2f" % med([r["ratio"] for r in rows]),
               "scales_across=%.2f" % med([r["scales_across"] for r in rows]),
               "scales_along=%.2f" % med([r["scales_along"] for r in rows])]
+    if ranked:
+        result.append("top3=%.3f" % (sum(k <= 2 for k in ranked) / len(ranked)))
     withb = [r for r in rows if r["baselines"]]
     if withb:
         print("\nbaselines on %d photos at squama's evaluation count (score ratio > 1: squama better)" % len(withb))

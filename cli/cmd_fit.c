@@ -238,8 +238,9 @@ int cmd_fit(int argc, char **argv)
         printf("  objectives:");
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             printf(" %s %.3f", sq_fit_objective_name(k), r.best.obj[k]);
-        printf("\n  wrote %s/best.json, %d alternatives in %s/front, maps, preview\n  report: %s/report.html\n",
-               outdir, r.nfront, outdir, outdir);
+        printf("\n  wrote %s/best.json, %d alternatives in %s/front, each kind's best in %s/kinds, maps, preview\n"
+               "  report: %s/report.html\n",
+               outdir, r.nfront, outdir, outdir, outdir);
     }
     if (interrupted)
         return 130;
