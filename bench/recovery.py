@@ -13,12 +13,16 @@ texture-space ratio over a reseeded truth is kept in rows.json but degenerates f
 without randomness, whose reseeded distance is near 0), and how far off the fitted scale grid
 is (median |log2| of fitted over true scales across the body, and along it per body
 circumference); then, per baseline, the median ratio of its final score
-to squama's on the same photo (> 1: squama is better) and how often squama won.
+to squama's on the same photo (> 1: squama is better) and how often squama won; and where
+the truth's kind stands among the kinds the fit offers (kinds/: best.json's, then each other
+kind's best by score), with, for each wrong row, that kind's best scored against the photo.
 Ends with: RESULT recovery n=... accuracy=... de00_median=... ratio_median=... scales_across=...
-scales_along=... <method>_score_ratio=...
+scales_along=... top3=... <method>_score_ratio=...
 
 Work goes to --out (default build-bench/recovery); finished steps are kept and skipped on
-a rerun with the same options, so a long run can be interrupted and continued.
+a rerun with the same options, so a long run can be interrupted and continued. A fit is
+kept by its command line alone: fits made by a squama before kinds/ (session 27) give no
+kind's best for the wrong rows, and their rank comes from fit.json's category_scores.
 
 With --fidelity nothing is fitted: each truth is scored against its own photo at its true
 view scale (`squama score --view`), which says how well the objectives can recognise the
@@ -137,7 +141,9 @@ def kind_rank(sq, cat):
     """Where the truth's kind stands among the kinds the fit offers (kinds/, as squama seed
     --from-photo offers them): 0 the champion's, then the others by score; None when the
     kind was not searched."""
-    scores = {k: v["score"] for k, v in sq["kinds"].items()} if "kinds" in sq else dict(sq["category_scores"])
+    if "kinds" in sq:
+        return sq["kinds"][cat]["rank"] if cat in sq["kinds"] else None
+    scores = sq["category_scores"]  # a fit before kinds/: the order the pick's scores give
     order = [sq["category"]] + sorted((k for k in scores if k != sq["category"]), key=scores.get)
     return order.index(cat) if cat in order else None
 

@@ -127,20 +127,30 @@ static void confusion_html(CliBuf *b, const BatchConfusion *c, int errors, int w
     cli_buf_put(b, ".</p>\n");
 }
 
-/* A row fitted to another category than expected: links to each kind's best, and to the
- * expected kind's best preset when the fit tried that kind. */
-static void differs_html(CliBuf *b, const char *outdir, const char *id, int expected)
+/* A link to the row's file id/rel when it is there. */
+static void link_if_there(CliBuf *b, const char *outdir, const char *id, const char *rel, const char *text)
 {
     char path[4096];
-    cli_buf_put(b, "category differs: <a href='");
+    if (cli_pathf(path, sizeof path, "%s/%s/%s", outdir, id, rel) != 0 || access(path, R_OK) != 0)
+        return;
+    cli_buf_put(b, ", <a href='");
     cli_buf_html(b, id);
-    cli_buf_put(b, "/kinds.png'>each kind's best</a>");
-    if (cli_pathf(path, sizeof path, "%s/%s/kinds/%s.json", outdir, id, cat_name(expected)) == 0 &&
-        access(path, R_OK) == 0) {
-        cli_buf_put(b, ", <a href='");
-        cli_buf_html(b, id);
-        cli_buf_put(b, "/kinds/%s.json'>the best %s</a>", cat_name(expected), cat_name(expected));
-    }
+    cli_buf_put(b, "/%s'>%s</a>", rel, text);
+}
+
+/* A row fitted to another category than expected: links to each kind's best (kinds.png)
+ * and to the expected kind's best preset, when the fit made them (a complex row: the best
+ * reaction-diffusion and the best layered skin, both of which the batch counts complex). */
+static void differs_html(CliBuf *b, const char *outdir, const char *id, int expected)
+{
+    cli_buf_put(b, "category differs");
+    link_if_there(b, outdir, id, "kinds.png", "each kind's best");
+    char rel[64], text[64];
+    snprintf(rel, sizeof rel, "kinds/%s.json", cat_name(expected));
+    snprintf(text, sizeof text, "the best %s", cat_name(expected));
+    link_if_there(b, outdir, id, rel, text);
+    if (expected == SQ_PATTERN_COMPLEX)
+        link_if_there(b, outdir, id, "kinds/layered.json", "the best layered");
 }
 
 static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const BatchResult *res, int n, SqError *err)

@@ -140,6 +140,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         if (st != SQ_OK)
             return st;
     }
+    for (int i = r->nfront; i < 1000; i++) { /* a longer front an earlier fit left here */
+        snprintf(path, sizeof path, "%s/front/%02d.json", outdir, i);
+        if (unlink(path) != 0)
+            break;
+    }
     snprintf(path, sizeof path, "%s/best.json", outdir);
     const char *base = strrchr(photo_path, '/');
     char name[256];
@@ -170,10 +175,10 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         snprintf(path, sizeof path, "%s/fitted_strip.png", outdir);
         st = sq_io_write_image(path, &strip, NULL, err);
     }
-    sq_image_free(&strip);
     sq_gen_textures_free(&tex);
     if (st == SQ_OK)
-        st = cli_fit_write_kinds(outdir, prep, fo->band_centre, r, size, base ? base + 1 : photo_path, err);
+        st = cli_fit_write_kinds(outdir, prep, fo->band_centre, r, &strip, size, base ? base + 1 : photo_path, err);
+    sq_image_free(&strip);
     if (st == SQ_OK) {
         SqPhotoOptions po = sq_fit_photo_options_default();
         po.width = 1024;
@@ -299,13 +304,15 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         if (isfinite(r->category_score[c]))
             cJSON_AddItemToObject(cs, sq_fit_kind_name(c), sq__json_exact_number(r->category_score[c]));
     cJSON *kb = cJSON_AddObjectToObject(root, "kinds"); /* each kind's best, best.json for its own */
-    for (int c = 0; c < SQ_FIT_KINDS; c++) {
+    int offered[SQ_FIT_KINDS];
+    const int noffered = sq_fit_kinds_offered(r, offered);
+    for (int i = 0; i < noffered; i++) {
+        const int c = offered[i];
         const SqFitCandidate *k = &r->kind_best[c];
-        if (!isfinite(k->score))
-            continue;
         cJSON *e = cJSON_AddObjectToObject(kb, sq_fit_kind_name(c));
         snprintf(path, sizeof path, "kinds/%s.json", sq_fit_kind_name(c));
         cJSON_AddStringToObject(e, "preset", path);
+        cJSON_AddNumberToObject(e, "rank", i); /* 0: best.json's kind, then by score */
         cJSON_AddItemToObject(e, "score", sq__json_exact_number(k->score));
         cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(k->view_scale));
         cJSON_AddItemToObject(e, "objectives", objectives_json(k->obj));

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "fit_job.h"
@@ -43,13 +44,13 @@ static void paste_turned(SqImage *dst, const SqImage *strip, int x0, int y0, int
 /* The picture: a row for the photo's strip, then one for each kind's strip (NULL: none),
  * each labelled; the champion's kind in green. Without a font the rows go unlabelled, in
  * the order of the kinds. */
-static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, const SqImage *strips,
+static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, const SqImage *const *strips,
                               const SqFitResult *r, SqError *err)
 {
     const int champion = sq_fit_kind_of(&r->best.params);
     int rows = 1;
     for (int k = 0; k < SQ_FIT_KINDS; k++)
-        rows += strips[k].px != NULL;
+        rows += strips[k] != NULL;
     const int along = photo_strip->height < ALONG ? photo_strip->height : ALONG;
     const int h = SQ_FIT_STRIP_W;
     SqImage img;
@@ -65,10 +66,10 @@ static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, cons
     if (labelled)
         sq_io_draw_text(&img, PAD, y + 34, 11, "the straightened body", grey, &terr);
     for (int k = 0; k < SQ_FIT_KINDS; k++) {
-        if (!strips[k].px)
+        if (!strips[k])
             continue;
         y += h + GAP;
-        paste_turned(&img, &strips[k], LABEL_W, y, along);
+        paste_turned(&img, strips[k], LABEL_W, y, along);
         if (!labelled)
             continue;
         char t[64];
@@ -86,37 +87,58 @@ static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, cons
 }
 
 SqStatus cli_fit_write_kinds(const char *outdir, const SqPrepared *prep, double band_centre, const SqFitResult *r,
-                             int size, const char *photo_name, SqError *err)
+                             const SqImage *champion_strip, int size, const char *photo_name, SqError *err)
 {
     char path[4096];
     if (cli_pathf(path, sizeof path, "%s/kinds", outdir) != 0 || cli_mkdirs(path) != 0)
         return sq_error_set(err, SQ_ERR_IO, path, "cannot create the folder: %s", strerror(errno));
-    SqImage strips[SQ_FIT_KINDS] = {{0}};
-    SqStatus st = SQ_OK;
+    /* the presets; a kind this fit has none of loses the one an earlier fit left */
+    for (int k = 0; k < SQ_FIT_KINDS; k++) {
+        const SqFitCandidate *c = &r->kind_best[k];
+        if (cli_pathf(path, sizeof path, "%s/kinds/%s.json", outdir, sq_fit_kind_name(k)) != 0)
+            return sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+        if (!isfinite(c->score)) {
+            unlink(path);
+            continue;
+        }
+        char name[256];
+        snprintf(name, sizeof name, "the best %s skin of the fit of %s", sq_fit_kind_name(k), photo_name);
+        SqStatus st = cli_fit_write_preset(path, c, name, err);
+        if (st != SQ_OK)
+            return st;
+    }
+    /* the picture: each kind's strip (the champion's is made already) */
+    const int champion = sq_fit_kind_of(&r->best.params);
+    SqImage own[SQ_FIT_KINDS] = {{0}};
+    const SqImage *show[SQ_FIT_KINDS] = {0};
     SqGenOptions go = sq_gen_options_default(size);
     SqTextures tex = {0};
+    SqError perr;
+    SqStatus st = SQ_OK;
     for (int k = 0; k < SQ_FIT_KINDS && st == SQ_OK; k++) {
         const SqFitCandidate *c = &r->kind_best[k];
         if (!isfinite(c->score))
             continue;
-        char name[256];
-        snprintf(name, sizeof name, "the best %s skin of the fit of %s", sq_fit_kind_name(k), photo_name);
-        if (cli_pathf(path, sizeof path, "%s/kinds/%s.json", outdir, sq_fit_kind_name(k)) != 0)
-            st = sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
-        if (st == SQ_OK)
-            st = cli_fit_write_preset(path, c, name, err);
-        if (st == SQ_OK)
-            st = sq_gen_render_into(&c->params, &go, &tex, err);
+        if (k == champion) {
+            show[k] = champion_strip;
+            continue;
+        }
+        st = sq_gen_render_into(&c->params, &go, &tex, &perr);
         if (st == SQ_OK)
             st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, &prep->light, c->view_scale,
-                                        band_centre, prep->strip.height, &strips[k], err);
+                                        band_centre, prep->strip.height, &own[k], &perr);
+        show[k] = &own[k];
     }
     sq_gen_textures_free(&tex);
-    if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/kinds.png", outdir) != 0)
-        st = sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+    if (cli_pathf(path, sizeof path, "%s/kinds.png", outdir) != 0)
+        return sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
     if (st == SQ_OK)
-        st = kinds_picture(path, &prep->strip, strips, r, err);
+        st = kinds_picture(path, &prep->strip, show, r, &perr);
+    if (st != SQ_OK) { /* not the picture of an earlier fit either */
+        unlink(path);
+        fprintf(stderr, "squama: warning: no kinds.png: %s (%s)\n", perr.what, perr.where);
+    }
     for (int k = 0; k < SQ_FIT_KINDS; k++)
-        sq_image_free(&strips[k]);
-    return st;
+        sq_image_free(&own[k]);
+    return SQ_OK;
 }

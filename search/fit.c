@@ -1742,6 +1742,42 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
     return SQ_OK;
 }
 
+/* Each kind's best once the champion is final: the front's members after the polish and
+ * the plain twin count too (the polished pattern behind its plain twin is its kind's best),
+ * the champion stands for its own kind (best.json), and a layered skin whose layer does not
+ * show (LAYER_VISIBLE, as the layered champion's must) is none. The category scores stay
+ * the ones the pick compared. */
+static void kinds_final(Fit *f)
+{
+    SqFitResult *r = f->r;
+    for (int i = 0; i < r->nfront; i++) {
+        const int kind = sq_fit_kind_of(&r->front[i].params);
+        if (r->front[i].score < r->kind_best[kind].score)
+            r->kind_best[kind] = r->front[i];
+    }
+    const int champion = sq_fit_kind_of(&r->best.params);
+    r->kind_best[champion] = r->best;
+    SqFitCandidate *l = &r->kind_best[SQ_FIT_LAYERED];
+    if (champion != SQ_FIT_LAYERED && isfinite(l->score) &&
+        !(sq_fit_layer_visibility(&l->params, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE))
+        l->score = INFINITY;
+}
+
+int sq_fit_kinds_offered(const SqFitResult *r, int order[SQ_FIT_KINDS])
+{
+    const int champion = sq_fit_kind_of(&r->best.params);
+    int n = 0;
+    order[n++] = champion;
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        if (k != champion && isfinite(r->kind_best[k].score)) {
+            int j = n++;
+            for (; j > 1 && r->kind_best[order[j - 1]].score > r->kind_best[k].score; j--)
+                order[j] = order[j - 1];
+            order[j] = k;
+        }
+    return n;
+}
+
 SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
@@ -1892,7 +1928,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         report(&f, "polish", sq_fit_kind_of(&out->best.params));
     }
     plain_twin(&f);
-    out->kind_best[sq_fit_kind_of(&out->best.params)] = out->best; /* what best.json is */
+    kinds_final(&f);
     out->evals = f.evals;
 
 done:

@@ -723,7 +723,7 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
     /* the offers: the champion, each other kind's best by score (the front may hold one or
      * two kinds only, and an artist may know the snake's kind better than the fit), then
      * the rest of the front */
-    const int champion = sq_fit_kind_of(&fit->front[0].params), most = fit->nfront + SQ_FIT_KINDS;
+    const int most = fit->nfront + SQ_FIT_KINDS;
     int n = 0, noffer = 0, *from = malloc(sizeof(int) * (size_t)most);
     const SqFitCandidate **offer = malloc(sizeof *offer * (size_t)most);
     int *ok = malloc(sizeof(int) * (size_t)most), *pick = malloc(sizeof(int) * (size_t)most);
@@ -734,18 +734,14 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
         st = sq_error_set(err, SQ_ERR_NOMEM, "seed", "out of memory");
         goto done;
     }
+    int kinds[SQ_FIT_KINDS];
+    const int nkinds = sq_fit_kinds_offered(fit, kinds);
     from[noffer] = 0;
     offer[noffer++] = &fit->front[0];
-    for (int k = 0; k < SQ_FIT_KINDS; k++)
-        if (k != champion && isfinite(fit->kind_best[k].score)) {
-            int j = noffer++;
-            for (; j > 1 && offer[j - 1]->score > fit->kind_best[k].score; j--) {
-                offer[j] = offer[j - 1];
-                from[j] = from[j - 1];
-            }
-            offer[j] = &fit->kind_best[k];
-            from[j] = front_index(fit, &fit->kind_best[k]);
-        }
+    for (int i = 1; i < nkinds; i++) {
+        offer[noffer] = &fit->kind_best[kinds[i]];
+        from[noffer++] = front_index(fit, &fit->kind_best[kinds[i]]);
+    }
     for (int i = 1; i < fit->nfront; i++) {
         from[noffer] = i;
         offer[noffer++] = &fit->front[i];
@@ -769,7 +765,11 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
     render_all(&r, out->pool, n, ok, 0, n);
     for (int i = 0; i < n; i++)
         if (!ok[i]) {
-            st = sq_error_set(err, SQ_ERR_INTERNAL, "seed", "front member %d of the fit cannot be rendered", i);
+            st = out->pool[i].source >= 0
+                     ? sq_error_set(err, SQ_ERR_INTERNAL, "seed", "front member %d of the fit cannot be rendered",
+                                    out->pool[i].source)
+                     : sq_error_set(err, SQ_ERR_INTERNAL, "seed", "the fit's best %s skin cannot be rendered",
+                                    sq_fit_kind_name(sq_fit_kind_of(&out->pool[i].params)));
             goto done;
         }
     for (int i = 0; i < n; i++)

@@ -75,7 +75,7 @@ if [ "$PART" = local ]; then
   check "batch with bad rows" 0 out '"rows":9' out '"ok":2' out '"errors":7'
   [ "$(catalogue_ids "$TMP/b" ok)" = "bands stripes" ] || fail "ok rows: $(catalogue_ids "$TMP/b" ok)"
   python3 - "$TMP/b" <<'PY' || fail "catalogue content"
-import csv, os, sys
+import csv, json, os, sys
 d = sys.argv[1]
 rows = list(csv.DictReader(open(d + "/catalogue.csv", newline="")))
 assert [r["id"] for r in rows] == ["bands", "stripes", "gone", "text", "badmask", "stripes", "", "../up", "odd"], [r["id"] for r in rows]
@@ -104,10 +104,14 @@ assert "bands/thumb_texture.png" in html and "stripes/report.html" in html and "
 assert "expected \\ fitted" in html and "Overall:" in html and "data-f='spots'" in html and "<script>" in html
 assert "http" not in html.replace("http-equiv", ""), "index.html must not load anything from the network"
 assert "the mask is 4x8" in html
-if b["fitted"] != "transversal":  # the expected kind's best, a click away
-    assert "category differs: <a href='bands/kinds.png'>" in html and "bands/kinds/transversal.json" in html
-# spots were not searched: each kind's best, but no spots preset to link to
-assert "category differs: <a href='stripes/kinds.png'>" in html and "stripes/kinds/spots.json" not in html
+# a row fitted to another kind than expected links to each kind's best, and to the expected
+# kind's best exactly when the fit searched that kind (spots were not: the stripes row)
+for r in rows:
+    if r["status"] == "ok" and r["expected"] and r["expected"] != r["fitted"]:
+        kinds = json.load(open(d + "/" + r["id"] + "/fit.json"))["kinds"]
+        assert "category differs, <a href='%s/kinds.png'>" % r["id"] in html, r["id"]
+        assert (("%s/kinds/%s.json" % (r["id"], r["expected"])) in html) == (r["expected"] in kinds), r["id"]
+assert "category differs, <a href='stripes/kinds.png'>" in html and "stripes/kinds/spots.json" not in html
 PY
   grep -q '"id":"gone".*"status":"error"' "$out" || fail "no JSON line for the missing photo"
 

@@ -236,17 +236,21 @@ assert f["category"] in f["category_scores"]
 import os, struct
 here = os.path.dirname(sys.argv[1])
 k = f["kinds"]
-assert set(k) == set(f["category_scores"]) | {f["category"]}, (k, f["category_scores"])
+assert set(f["category_scores"]) - {"layered"} <= set(k) <= set(f["category_scores"]) | {f["category"]}, (k, f["category_scores"])
 def params(path):
     d = json.load(open(os.path.join(here, path)))
     return {x: v for x, v in d.items() if x not in ("name", "notes")}
+assert [x for x in k] == sorted(k, key=lambda x: k[x]["rank"]) and k[f["category"]]["rank"] == 0, k
+assert [k[x]["rank"] for x in k] == list(range(len(k))), k  # listed as offered: by score after the first
+assert all(k[a]["score"] <= k[b]["score"] for a, b in zip(list(k)[1:], list(k)[2:])), k
 for kind, e in k.items():
     assert e["preset"] == "kinds/%s.json" % kind and e["view_scale"] > 0, e
     assert set(e["objectives"]) == set(f["objectives"])
     if kind == f["category"]:
         assert e["score"] == f["score"] and params(e["preset"]) == params("best.json"), kind
-    else:
-        assert e["score"] == f["category_scores"][kind], (kind, e["score"])
+    else:  # the pick's score, or a front member's after the polish
+        assert e["score"] <= f["category_scores"][kind], (kind, e["score"])
+        assert all(e["score"] <= x["score"] for x in f["front"] if x["category"] == kind), kind
 png = open(os.path.join(here, "kinds.png"), "rb").read(24)  # a row for the photo and each kind
 assert png[:8] == b"\x89PNG\r\n\x1a\n" and struct.unpack(">I", png[20:24])[0] == 20 + (1 + len(k)) * 72 - 8
 d = f["drops"]  # the niches dropped, in order, none of them a survivor
@@ -267,6 +271,20 @@ if l is not None:
 PY
 fi
 [ -s "$TMP/fit/line.json" ] || { echo "FAIL: fit did not write line.json"; fails=$((fails + 1)); }
+# fitted again into the same folder with fewer kinds: no preset of the first fit's is left
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit2" --evals 300 --size 64 -j 2 -q; check "fit to refit" 0
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit2" --evals 100 --size 64 -j 2 -q --categories none,spots
+check "fit again, fewer kinds" 0
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/fit2" <<'PY' || { echo "FAIL: a refit left the first fit's presets"; fails=$((fails + 1)); }
+import json, os, sys
+d = sys.argv[1]
+f = json.load(open(d + "/fit.json"))
+assert sorted(os.listdir(d + "/kinds")) == sorted(x + ".json" for x in f["kinds"]), os.listdir(d + "/kinds")
+assert set(f["kinds"]) <= {"none", "spots"}, f["kinds"]
+assert sorted(os.listdir(d + "/front")) == ["%02d.json" % i for i in range(len(f["front"]))], os.listdir(d + "/front")
+PY
+fi
 run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl" --evals 100 --size 64 -j 2 -q
 check "fit --line" 0
 [ -e "$TMP/fitl/line.json" ] && { echo "FAIL: fit --line wrote line.json"; fails=$((fails + 1)); }

@@ -71,24 +71,38 @@ static void assert_plain_rule(const SqFitResult *r)
     }
 }
 
-/* Each kind's best: of its kind, valid, behind its category's score (the champion stands
- * for its own kind: the polish may have moved it on). */
-static void assert_kind_bests(const SqFitResult *r)
+/* Each kind's best: the champion for its own kind; for the others, of its kind, valid, as
+ * good as the score the pick compared and as every front member of its kind (the polish
+ * and the plain twin come after the pick); a layered skin only when its layer shows. */
+static void assert_kind_bests(const SqFitResult *r, const SqFitOptions *o)
 {
     const int champion = sq_fit_kind_of(&r->best.params);
+    assert_memory_equal(&r->kind_best[champion], &r->best, sizeof r->best);
+    int order[SQ_FIT_KINDS], with = 0; /* offered: the champion's kind, then by score */
+    const int n = sq_fit_kinds_offered(r, order);
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        with += isfinite(r->kind_best[k].score) != 0;
+    assert_int_equal(n, with);
+    assert_int_equal(order[0], champion);
+    for (int i = 2; i < n; i++)
+        assert_true(r->kind_best[order[i - 1]].score <= r->kind_best[order[i]].score);
     for (int k = 0; k < SQ_FIT_KINDS; k++) {
         const SqFitCandidate *c = &r->kind_best[k];
-        assert_int_equal(isfinite(c->score) != 0, isfinite(r->category_score[k]) != 0 || k == champion);
-        if (!isfinite(c->score))
+        if (k == champion)
             continue;
+        if (!isfinite(c->score)) {
+            assert_true(!isfinite(r->category_score[k]) || k == SQ_FIT_LAYERED);
+            continue;
+        }
         assert_int_equal(sq_fit_kind_of(&c->params), k);
         assert_int_equal(sq_params_validate(&c->params, NULL), SQ_OK);
         assert_true(c->view_scale >= 0.25 && c->view_scale <= 8);
-        if (k == champion) {
-            assert_memory_equal(c, &r->best, sizeof *c);
-        } else {
-            assert_true(c->score == r->category_score[k]);
-        }
+        assert_true(c->score <= r->category_score[k]);
+        for (int i = 0; i < r->nfront; i++)
+            if (sq_fit_kind_of(&r->front[i].params) == k)
+                assert_true(c->score <= r->front[i].score);
+        if (k == SQ_FIT_LAYERED)
+            assert_true(sq_fit_layer_visibility(&c->params, o->fine_size, o->band_centre, NULL) >= 0.05);
     }
 }
 
@@ -134,7 +148,7 @@ static void recovers_category(void **state)
            sq_pattern_type_name(r.best.params.Pattern_Type), r.best.view_scale, r.best.score, r.evals, r.nfront);
     assert_int_equal(r.best.params.Pattern_Type, SQ_PATTERN_LONGITUDINAL);
     assert_plain_rule(&r);
-    assert_kind_bests(&r);
+    assert_kind_bests(&r, &o);
     /* stripes along the body look the same at any view scale: it is not checked here */
     assert_true(r.best.view_scale >= 0.25 && r.best.view_scale <= 8);
     assert_true(r.evals > 1400 && r.evals <= 1500); /* the budget holds */
@@ -214,7 +228,7 @@ static void prefers_a_plain_skin(void **state)
     for (int c = 0; c < SQ_PATTERN_COUNT; c++) /* within 30% of every other category */
         assert_true(r.best.score <= 1.30 * r.category_score[c] + 1e-9);
     assert_plain_rule(&r);
-    assert_kind_bests(&r);
+    assert_kind_bests(&r, &o);
     sq_fit_result_free(&r);
 }
 
@@ -315,6 +329,8 @@ static void an_invisible_pattern_is_a_plain_skin(void **state)
     assert_true(r.nfront >= 2);
     assert_int_equal(r.front[1].params.Pattern_Type, SQ_PATTERN_SPOTS);
     assert_true(isfinite(r.best.score));
+    assert_kind_bests(&r, &o); /* the spots' best is the polished one behind the twin */
+    assert_true(r.kind_best[SQ_PATTERN_SPOTS].score <= r.front[1].score);
     sq_fit_result_free(&r);
     /* and a visible pattern stays */
     o.categories = 1u << SQ_PATTERN_LONGITUDINAL;
@@ -377,7 +393,7 @@ static void categories_fitted(void **state)
         assert_true(r.niche[c]);
     }
     assert_layer_rule(&r, &o);
-    assert_kind_bests(&r);
+    assert_kind_bests(&r, &o);
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
     sq_fit_result_free(&r);
     o.categories = 0; /* the default: the six categories, no layered niche, but a layer over the champion */
@@ -385,7 +401,7 @@ static void categories_fitted(void **state)
     for (int c = 0; c < SQ_FIT_KINDS; c++)
         assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
     assert_layer_rule(&r, &o);
-    assert_kind_bests(&r);
+    assert_kind_bests(&r, &o);
     assert_int_equal(r.best.params.Pattern_Layers.count, r.layer_lead);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
@@ -493,7 +509,7 @@ static void a_layer_is_searched_over_the_champion(void **state)
            r.layer_evals, r.layer_lead ? ", leads" : "", sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.evals);
     assert_true(r.layer_searched);
     assert_layer_rule(&r, &o);
-    assert_kind_bests(&r);
+    assert_kind_bests(&r, &o);
     assert_true(r.layer_score < r.layer_under);
     sq_fit_result_free(&r);
 }
@@ -527,6 +543,7 @@ static void stop_request_keeps_a_result(void **state)
     assert_true(r.nfront >= 1);
     assert_true(r.evals < 400); /* the screening and the re-scoring only */
     assert_int_equal(sq_params_validate(&r.best.params, NULL), SQ_OK);
+    assert_kind_bests(&r, &o);
     sq_fit_result_free(&r);
 }
 
@@ -543,6 +560,7 @@ static void baselines_run_on_the_same_budget(void **state)
         printf("  method %d: %ld evaluations\n", m, r.evals);
         assert_true(r.evals >= 185 && r.evals <= 262); /* 80% searching, then the re-scoring */
         assert_true(isfinite(r.best.score));
+        assert_kind_bests(&r, &o);
         sq_fit_result_free(&r);
     }
 }

@@ -356,8 +356,11 @@ typedef struct SqFitResult {
     double category_score[SQ_FIT_KINDS]; /* best score per kind, as the pick rule compared
                                             them (before the polish); INFINITY: not tried */
     SqFitCandidate kind_best[SQ_FIT_KINDS]; /* each kind's best, re-scored (score INFINITY:
-                                               not tried): the champion for its own kind,
-                                               else the candidate behind category_score */
+                                               none; a result made by hand must say so):
+                                               the champion for its own kind, else the
+                                               best finalist or front member (after the
+                                               polish) of the kind; no layered skin whose
+                                               layer does not show */
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
     int survivor[SQ_FIT_KINDS]; /* 1: still evolving when stage 2 ended */
     long dropped_at[SQ_FIT_KINDS]; /* evaluations done when the niche was dropped; 0: it was not */
@@ -416,6 +419,10 @@ double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre
  * differ by more than a CIEDE2000 of 5. The fit's layered skin leads only when at least
  * 0.05 (as a layered preset of squama seed must). -1 on error. */
 double sq_fit_layer_visibility(const SqParams *p, int size, double band_centre, SqError *err);
+
+/* The kinds a fit offers, in the order it offers them (best.json's kind, then each other
+ * kind with a best by that best's score) into order; returns how many. */
+int sq_fit_kinds_offered(const SqFitResult *r, int order[SQ_FIT_KINDS]);
 
 /* Fits the generator to a target. On error nothing is allocated in out. */
 SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult *out, SqError *err);
@@ -482,7 +489,8 @@ typedef struct SqSeedCandidate {
                            the fit's front member (sq_seed_from_fit; -1: a kind's best not
                            in the front) */
     const SqFitCandidate *fitted; /* sq_seed_from_fit: the fit's candidate it is (in the
-                                     fit's front or kind_best); else NULL */
+                                     fit's front or kind_best: valid while that result
+                                     is); else NULL */
 } SqSeedCandidate;
 
 typedef struct SqSeedResult {
