@@ -251,21 +251,21 @@ static void preset_info(const Seeding *s, int i, SqPresetInfo *info)
                  "%g of their ranges); feature distance to the original %.3f%s",
                  s->origin, s->distance, (unsigned long long)s->seed, s->distance, c->to_origin, near);
         break;
-    default:
+    default: {
+        char which[40], what[128]; /* a front member, or a kind's best outside the front */
         if (c->source < 0) {
-            snprintf(info->name, sizeof info->name, "fit of %.200s, the best %s skin", s->origin_name, cat);
-            snprintf(info->notes, sizeof info->notes,
-                     "squama seed --from-photo %s --seed %llu: the fit's best %s skin (each kind's best follows "
-                     "the champion), view scale %.3f; distance to the photo %.3f%s",
-                     s->origin, (unsigned long long)s->seed, cat, c->fitted->view_scale, c->to_origin, near);
+            snprintf(which, sizeof which, "the best %s skin", cat);
+            snprintf(what, sizeof what, "the fit's best %s skin (each kind's best follows the champion)", cat);
         } else {
-            snprintf(info->name, sizeof info->name, "fit of %.200s, front %02d", s->origin_name, c->source);
-            snprintf(info->notes, sizeof info->notes,
-                     "squama seed --from-photo %s --seed %llu: member %d of the fit's Pareto front (best first), "
-                     "view scale %.3f; distance to the photo %.3f%s",
-                     s->origin, (unsigned long long)s->seed, c->source, c->fitted->view_scale, c->to_origin, near);
+            snprintf(which, sizeof which, "front %02d", c->source);
+            snprintf(what, sizeof what, "member %d of the fit's Pareto front (best first)", c->source);
         }
+        snprintf(info->name, sizeof info->name, "fit of %.200s, %s", s->origin_name, which);
+        snprintf(info->notes, sizeof info->notes,
+                 "squama seed --from-photo %s --seed %llu: %s, view scale %.3f; distance to the photo %.3f%s",
+                 s->origin, (unsigned long long)s->seed, what, c->fitted->view_scale, c->to_origin, near);
         break;
+    }
     }
 }
 

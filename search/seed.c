@@ -724,28 +724,22 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
      * two kinds only, and an artist may know the snake's kind better than the fit), then
      * the rest of the front */
     const int most = fit->nfront + SQ_FIT_KINDS;
-    int n = 0, noffer = 0, *from = malloc(sizeof(int) * (size_t)most);
+    int n = 0, noffer = 0;
     const SqFitCandidate **offer = malloc(sizeof *offer * (size_t)most);
     int *ok = malloc(sizeof(int) * (size_t)most), *pick = malloc(sizeof(int) * (size_t)most);
     out->pool = malloc(sizeof *out->pool * (size_t)most);
-    if (!from || !offer || !ok || !pick || !out->pool) {
-        free(from);
+    if (!offer || !ok || !pick || !out->pool) {
         free(offer);
         st = sq_error_set(err, SQ_ERR_NOMEM, "seed", "out of memory");
         goto done;
     }
     int kinds[SQ_FIT_KINDS];
     const int nkinds = sq_fit_kinds_offered(fit, kinds);
-    from[noffer] = 0;
     offer[noffer++] = &fit->front[0];
-    for (int i = 1; i < nkinds; i++) {
-        offer[noffer] = &fit->kind_best[kinds[i]];
-        from[noffer++] = front_index(fit, &fit->kind_best[kinds[i]]);
-    }
-    for (int i = 1; i < fit->nfront; i++) {
-        from[noffer] = i;
+    for (int i = 1; i < nkinds; i++)
+        offer[noffer++] = &fit->kind_best[kinds[i]];
+    for (int i = 1; i < fit->nfront; i++)
         offer[noffer++] = &fit->front[i];
-    }
     /* the first o->n distinct presets: one preset may stand in the front at two view
      * scales, and a kind's best in the front too, and a preset sheet shows no view scale */
     for (int i = 0; i < noffer && n < o->n; i++) {
@@ -755,12 +749,11 @@ SqStatus sq_seed_from_fit(const SqFitResult *fit, const SqSeedOptions *o, SqSeed
         if (seen)
             continue;
         out->pool[n].params = offer[i]->params;
-        out->pool[n].source = from[i];
+        out->pool[n].source = front_index(fit, offer[i]);
         out->pool[n].fitted = offer[i];
         pick[n] = n;
         n++;
     }
-    free(from);
     free(offer);
     render_all(&r, out->pool, n, ok, 0, n);
     for (int i = 0; i < n; i++)
