@@ -158,23 +158,6 @@ static int out_of_budget(const Fit *f, double fraction)
     return 0;
 }
 
-/* Whether n more evaluations at size x size end within `fraction` of the budget: of an
- * evaluation budget, or of a time budget at the pace so far (a render costs the square of
- * its size); and no stop was asked for. */
-static int affordable(const Fit *f, long n, int size, double fraction)
-{
-    if (f->o.stop && *f->o.stop)
-        return 0;
-    if (f->o.max_evals > 0 && f->evals + n > (long)(fraction * (double)f->o.max_evals))
-        return 0;
-    if (f->o.budget > 0 && f->evals > 0) {
-        const double ratio = (double)size / f->o.coarse_size;
-        if (elapsed(f) + (double)n * elapsed(f) / (double)f->evals * ratio * ratio > fraction * f->o.budget)
-            return 0;
-    }
-    return 1;
-}
-
 /* How far the search is through its budget: the larger of its clock's and its
  * evaluations' share (0 with neither). */
 static double progress(const Fit *f)
@@ -202,31 +185,23 @@ static void set_failed(SqFitCandidate *c)
     c->score = INFINITY;
 }
 
-/* One candidate at a fixed view scale, its render on `threads` threads; its strip's
- * features in *feat. Returns 0, or -1 when it failed (its objectives infinite). */
-static int evaluate_features(const Fit *f, SqFitCandidate *c, int size, int threads, SqTextures *maps,
-                             SqFeatures *feat)
+/* One candidate at a fixed view scale, its render on `threads` threads. */
+static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqTextures *maps)
 {
     SqGenOptions go = sq_gen_options_default(size);
     go.threads = threads;
     SqImage strip = {0};
+    SqFeatures feat;
     if (sq_gen_render_into(&c->params, &go, maps, NULL) != SQ_OK ||
         sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, &f->target->light, c->view_scale, f->o.band_centre,
                                SQ_FIT_CANDIDATE_ROWS, &strip, NULL) != SQ_OK ||
-        sq_fit_features_blurred(&strip, NULL, f->target->blur, feat, NULL) != SQ_OK) {
+        sq_fit_features_blurred(&strip, NULL, f->target->blur, &feat, NULL) != SQ_OK) {
         sq_image_free(&strip);
         set_failed(c);
-        return -1;
+        return;
     }
     sq_image_free(&strip);
-    sq_fit_objectives(f->target, feat, c->obj);
-    return 0;
-}
-
-static void evaluate(const Fit *f, SqFitCandidate *c, int size, int threads, SqTextures *maps)
-{
-    SqFeatures feat;
-    evaluate_features(f, c, size, threads, maps, &feat);
+    sq_fit_objectives(f->target, &feat, c->obj);
 }
 
 /* Candidates in parallel: grid = 1 searches the view scale grid (screening). Each result
@@ -713,52 +688,6 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     return SQ_OK;
 }
 
-/* Candidates' colours moved toward the photo's palette (sq__recoloured), each way scored
- * at size x size with the candidate's own seed: better[i] the best way when it scores
- * better than c[i] does there, else its score INFINITY. A niche's CMA-ES moves every
- * colour at once with every other gene, and colours are slow to settle: on the recovery
- * benchmark's wrong rows the truth's kind's best scored worse than the truth on the
- * palette objective every time (docs/recovery.md, session 28). 1 + SQ_RECOLOUR_WAYS
- * evaluations a candidate. */
-static void recolour(Fit *f, const SqFitCandidate *c, int n, int size, SqFitCandidate *better)
-{
-    enum { W = SQ_RECOLOUR_WAYS };
-    SqFitCandidate *v = malloc(sizeof *v * (size_t)n * (W + 1));
-    SqFeatures *feat = malloc(sizeof *feat * (size_t)n);
-    for (int i = 0; i < n; i++)
-        better[i].score = INFINITY;
-    if (!v || !feat) {
-        free(v);
-        free(feat);
-        return;
-    }
-    SqFitCandidate *as_is = v + (size_t)n * W; /* c[i] scored at this size */
-#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
-    for (int i = 0; i < n; i++) {
-        as_is[i] = c[i];
-        if (evaluate_features(f, &as_is[i], size, 1, &f->maps[omp_get_thread_num()], &feat[i]) == 0)
-            sq__recoloured(f->target, &c[i], &feat[i], v + W * i);
-        else
-            for (int w = 0; w < W; w++)
-                v[W * i + w] = c[i];
-    }
-    f->evals += n;
-    evaluate_all(f, v, W * n, size, 0);
-    for (int i = 0; i < n; i++) {
-        score_of(f, &as_is[i]);
-        const SqFitCandidate *b = &as_is[i];
-        for (int w = 0; w < W; w++) {
-            score_of(f, &v[W * i + w]);
-            if (v[W * i + w].score < b->score)
-                b = &v[W * i + w];
-        }
-        if (b != &as_is[i])
-            better[i] = *b;
-    }
-    free(v);
-    free(feat);
-}
-
 /* ---- stage 2: niches ---- */
 
 typedef struct Niche {
@@ -866,12 +795,6 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
             start = &screened[i];
     if (!start)
         return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no screened candidate of a niche");
-    SqFitCandidate recoloured; /* it starts in the photo's colours as near as they go */
-    if (affordable(f, 1 + SQ_RECOLOUR_WAYS, f->o.coarse_size, SEARCH_END)) {
-        recolour(f, start, 1, f->o.coarse_size, &recoloured);
-        if (isfinite(recoloured.score))
-            start = &recoloured;
-    }
     /* the layered niche searches the pair of its best screened candidate */
     SqStatus st = sq_genome_of(&z->g, &start->params, err);
     if (st != SQ_OK)
@@ -1895,7 +1818,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
      * the drops then come later, and the last may not come before the search ends (more
      * than o->niches survive; their bests are finalists anyway). */
     t = now();
-    int nfin_max = ARCHIVE_MAX + 2 * CATEGORIES + 1;
+    int nfin_max = ARCHIVE_MAX + CATEGORIES + 1;
     fin = malloc(sizeof *fin * (size_t)nfin_max);
     if (!fin) {
         st = sq_error_set(err, SQ_ERR_NOMEM, "fit", "out of memory");
@@ -1945,15 +1868,6 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         for (int i = 0; i < nn; i++) {
             fin[nfin++] = niches[i].best;
             out->survivor[niches[i].category] = alive[i];
-        }
-        /* the niches' bests recoloured join them, when the budget has room for it and for
-         * their re-scoring */
-        if (affordable(&f, (long)nfin * (1 + SQ_RECOLOUR_WAYS + o->reseeds), o->fine_size, 0.9)) {
-            SqFitCandidate better[CATEGORIES];
-            recolour(&f, fin, nfin, o->fine_size, better);
-            for (int i = 0, n = nfin; i < n; i++)
-                if (isfinite(better[i].score))
-                    fin[nfin++] = better[i];
         }
     } else {
         out->niche[sq_fit_kind_of(&screened[0].params)] = 1;

@@ -243,16 +243,14 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     with them, when the best reading is strong (spots in the colours read with them);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
- *     candidate, its colours moved toward the photo's palette when that scores better;
- *     a spots niche starts from a lattice read when there is one, and
+ *     candidate; a spots niche starts from a lattice read when there is one, and
  *     searches that lattice, its count round the body held, its offset and view scale
  *     near the reading), GP operators moving its automata (most children keeping the niche's
  *     best automaton, so the CMA-ES ranks its genes against one); every generation
  *     ranked by NSGA-II on the five objectives, one seed per generation (common random
  *     numbers); the worst niche is dropped one at a time until `niches` remain, the drops
  *     splitting the stage's budget into equal rounds (successive halving);
- *  3. finish: the finalists (the archive's Pareto front, each niche's best, and each
- *     niche's best recoloured toward the photo's palette when that scores better) re-scored
+ *  3. finish: the finalists (the archive's Pareto front and each niche's best) re-scored
  *     over several seeds at the fine size; the champion picked from the re-scored front
  *     (see SqFitResult.norm; a plain skin within 30% of the best is preferred, as the best
  *     pattern's plain twin when that scores better; else the simplest kind within 5%: plain,
