@@ -244,6 +244,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     for (int i = 0; i < SQ_FIT_STAGES; i++)
         cJSON_AddNumberToObject(ti, stages[i], r->seconds[i]);
     cJSON_AddNumberToObject(ti, "layer", r->layer_seconds); /* between the re-scoring and the polish */
+    cJSON_AddNumberToObject(ti, "recolour", r->recolour_seconds); /* the alternatives, after the polish */
+    cJSON_AddNumberToObject(se, "recolour_evaluations", (double)r->recolour_evals); /* beyond evaluations */
     cJSON_AddNumberToObject(ti, "total", total_s);
     cJSON_AddItemToObject(root, "objectives", objectives_json(r->best.obj));
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
@@ -316,6 +318,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON_AddItemToObject(e, "score", sq__json_exact_number(k->score));
         cJSON_AddItemToObject(e, "view_scale", sq__json_exact_number(k->view_scale));
         cJSON_AddItemToObject(e, "objectives", objectives_json(k->obj));
+        cJSON_AddBoolToObject(e, "recoloured", r->kind_recoloured[c]);
     }
     cJSON *ni = cJSON_AddArrayToObject(root, "niches");
     for (int c = 0; c < SQ_FIT_KINDS; c++)

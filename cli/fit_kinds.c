@@ -76,7 +76,8 @@ static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, cons
         const float *c = k == champion ? green : ink;
         sq_io_draw_text(&img, PAD, y + 18, 13, sq_fit_kind_name(k), c, &terr);
         sq_io_draw_text(&img, PAD, y + 34, 11, gloss(k), grey, &terr);
-        snprintf(t, sizeof t, "score %.3f%s", r->kind_best[k].score, k == champion ? ", best.json" : "");
+        snprintf(t, sizeof t, "score %.3f%s", r->kind_best[k].score,
+                 k == champion ? ", best.json" : r->kind_recoloured[k] ? ", recoloured" : "");
         sq_io_draw_text(&img, PAD, y + 50, 11, t, c, &terr);
     }
     if (!labelled)

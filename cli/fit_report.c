@@ -191,7 +191,8 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     }
     cli_buf_put(&b, "<figure><a href='kinds.png'><img class='wide' src='kinds.png' alt='each kind&#39;s best'></a>"
             "<figcaption>The straightened body and, under it, each kind's best fit seen the same way (the first "
-            "twelve body widths); best.json's kind in green. Each is a preset in kinds/.</figcaption></figure>\n");
+            "twelve body widths); best.json's kind in green. Each is a preset in kinds/; a <em>recoloured</em> one had its "
+            "colours moved toward the photo's palette after the pick, and scores better so.</figcaption></figure>\n");
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>preset</th><th>view scale</th>"
             "<th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
@@ -201,7 +202,8 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'><a href='kinds/%s.json'>kinds/%s.json</a>%s</td>"
                 "<td>%.2f</td><td class='l'>",
             sq_fit_kind_name(c), k->score, sq_fit_kind_name(c), sq_fit_kind_name(c),
-            c == sq_fit_kind_of(&r->best.params) ? " (best.json)" : "", k->view_scale);
+            c == sq_fit_kind_of(&r->best.params) ? " (best.json)" : r->kind_recoloured[c] ? " (recoloured)" : "",
+            k->view_scale);
         if (r->survivor[c])
             cli_buf_put(&b, "to the end");
         else if (r->dropped_at[c] > 0)
@@ -225,9 +227,9 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             cli_buf_put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
         cli_buf_put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
     }
-    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, layer %.1f s, polish %.1f s. "
-            "All numbers are in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
-        r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3]);
+    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, layer %.1f s, polish %.1f s, "
+            "the alternatives recoloured %.1f s. All numbers are in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
+        r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3], r->recolour_seconds);
     if (b.fail) {
         free(b.s);
         return sq_error_set(err, SQ_ERR_NOMEM, "report.html", "out of memory");

@@ -362,7 +362,7 @@ static double spectral(const float *bt, const float *bc, double pt, double pc)
     return m / (m + eps) * chi2(bt, bc, SQ_FIT_BANDS) + 0.5 * fabs(log((pt + eps) / (pc + eps)));
 }
 
-static double palette_distance(const SqFeatures *a, const SqFeatures *b)
+double sq_fit_palette_flow(const SqFeatures *a, const SqFeatures *b, double flow[SQ_FIT_PALETTE][SQ_FIT_PALETTE])
 {
     enum { K = SQ_FIT_PALETTE };
     double d[K][K], ma[K], mb[K];
@@ -374,6 +374,8 @@ static double palette_distance(const SqFeatures *a, const SqFeatures *b)
             double x[3] = {a->palette[i][0], a->palette[i][1], a->palette[i][2]};
             double y[3] = {b->palette[j][0], b->palette[j][1], b->palette[j][2]};
             d[i][j] = sq_fit_ciede2000(x, y);
+            if (flow)
+                flow[i][j] = 0;
         }
     }
     double cost = 0, moved = 0;
@@ -393,13 +395,15 @@ static double palette_distance(const SqFeatures *a, const SqFeatures *b)
         ma[bi] -= f;
         mb[bj] -= f;
         used[bi][bj] = 1;
+        if (flow)
+            flow[bi][bj] = f;
     }
     return moved > 0 ? cost / moved : 0.0;
 }
 
 void sq_fit_objectives(const SqFeatures *t, const SqFeatures *c, double *out)
 {
-    out[SQ_OBJ_PALETTE] = palette_distance(t, c);
+    out[SQ_OBJ_PALETTE] = sq_fit_palette_flow(t, c, NULL);
     out[SQ_OBJ_HISTOGRAM] = chi2(t->hist, c->hist, NB * NB * NB);
     double s = 0;
     for (int l = 0; l < SQ_FIT_LEVELS; l++)

@@ -25,4 +25,21 @@ void sq__genome_narrow(struct SqGenome *g);
 void sq__genome_draw(SqRng *r, const struct SqGenome *g, SqParams *p);
 void sq__draw_bands(SqRng *r, const struct SqGenome *g, SqParams *p);
 
+struct SqFeatures;
+struct SqFitCandidate;
+enum { SQ_RECOLOUR_WAYS = 3 };
+/* c's colours moved toward the photo's palette (target), SQ_RECOLOUR_WAYS ways, into
+ * out[0] to out[2] (recolour.c; feat: c's features). The palette objective matches c's dominant colours with the photo's; each
+ * of c's colours seen at all (its ground, its pattern's and its layers' colours not
+ * switched off, the outline when it has one) is aimed at what they were matched with:
+ *  out[0]: each shifted in CIELAB as far as the dominant colour nearest it lies from its
+ *          match (a pattern colour gone astray comes back on its own);
+ *  out[1]: every one through the one gain and offset per CIELAB axis that best carry the
+ *          dominant colours onto their matches (the light and shading the skin is seen
+ *          under change all of its colours alike);
+ *  out[2]: every one shifted by the dominant colours' mean shift (their weights' mean).
+ * Only the colours change; out[k]'s objectives are c's until evaluated. */
+void sq__recoloured(const struct SqFeatures *target, const struct SqFitCandidate *c,
+                    const struct SqFeatures *feat, struct SqFitCandidate *out);
+
 #endif

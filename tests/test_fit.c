@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "../search/search_internal.h" /* sq__recoloured */
 #include "sq_test.h"
 #include "squama/preset.h"
 #include "squama/search.h"
@@ -104,6 +105,16 @@ static void assert_kind_bests(const SqFitResult *r, const SqFitOptions *o)
         if (k == SQ_FIT_LAYERED)
             assert_true(sq_fit_layer_visibility(&c->params, o->fine_size, o->band_centre, NULL) >= 0.05);
     }
+    /* the alternatives recoloured after the pick, beyond the search's budget: never the
+     * champion's kind; each other kind's best tried once (at most four renders and its
+     * re-scoring) */
+    assert_int_equal(r->kind_recoloured[champion], 0);
+    assert_true(r->recolour_evals <= (long)(SQ_FIT_KINDS - 1) * (1 + SQ_RECOLOUR_WAYS + o->reseeds));
+    if (o->method == SQ_FIT_SQUAMA && !r->stopped && with > 1)
+        assert_true(r->recolour_evals >= (long)(with - 1) * (1 + SQ_RECOLOUR_WAYS));
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        if (r->kind_recoloured[k])
+            assert_true(r->kind_best[k].score < r->category_score[k] || k == SQ_FIT_LAYERED);
 }
 
 /* The layer over the champion, when layered skins are asked for: searched over a stripe,
@@ -232,15 +243,22 @@ static void prefers_a_plain_skin(void **state)
     sq_fit_result_free(&r);
 }
 
+/* The thesis' Table 4.4 spots. */
+static void thesis_spots(SqParams *p)
+{
+    char path[4096];
+    SqError err;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), p, NULL, &err),
+                     SQ_OK);
+}
+
 /* Visibility: a pattern that shows, the same pattern in the ground's colour, no pattern. */
 static void visibility_measures_what_shows(void **state)
 {
     (void)state;
-    char path[4096];
     SqParams p;
     SqError err;
-    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
-                     SQ_OK);
+    thesis_spots(&p);
     double dom[3];
     double v = sq_fit_pattern_visibility(&p, 128, 0.5, dom, &err);
     printf("  spots %.3f\n", v);
@@ -565,6 +583,39 @@ static void baselines_run_on_the_same_budget(void **state)
     }
 }
 
+/* A skin's colours gone astray come back toward the photo's palette: the ground darkened
+ * and reddened, the spots turned blue; recoloured, the better way scores at most half the
+ * palette objective, and nothing but the colours changed. */
+static void recolouring_brings_the_colours_back(void **state)
+{
+    (void)state;
+    SqParams p;
+    thesis_spots(&p);
+    SqFeatures truth, astray, back;
+    assert_int_equal(features_of(&p, &truth), 0);
+    SqFitCandidate c = {.params = p, .view_scale = TRUE_SCALE}, out[SQ_RECOLOUR_WAYS];
+    c.params.Background_Color[0] = fmin(p.Background_Color[0] * 0.6 + 0.25, 1);
+    c.params.Background_Color[1] *= 0.6;
+    c.params.Spots_Color[2] = fmin(p.Spots_Color[2] + 0.4, 1);
+    assert_int_equal(features_of(&c.params, &astray), 0);
+    double before[SQ_OBJ_COUNT], after[SQ_OBJ_COUNT], best = INFINITY;
+    sq_fit_objectives(&truth, &astray, before);
+    sq__recoloured(&truth, &c, &astray, out);
+    for (int k = 0; k < SQ_RECOLOUR_WAYS; k++) {
+        assert_int_equal(features_of(&out[k].params, &back), 0);
+        sq_fit_objectives(&truth, &back, after);
+        printf("  way %d: palette %.2f (astray %.2f)\n", k, after[SQ_OBJ_PALETTE], before[SQ_OBJ_PALETTE]);
+        best = fmin(best, after[SQ_OBJ_PALETTE]);
+        SqParams q = out[k].params; /* but for the colours, c */
+        memcpy(q.Background_Color, c.params.Background_Color, sizeof q.Background_Color);
+        memcpy(q.Spots_Color, c.params.Spots_Color, sizeof q.Spots_Color);
+        assert_memory_equal(&q, &c.params, sizeof q);
+        assert_true(out[k].view_scale == c.view_scale);
+    }
+    if (!(best <= 0.5 * before[SQ_OBJ_PALETTE]))
+        fail_msg("recoloured: palette %.2f against %.2f astray", best, before[SQ_OBJ_PALETTE]);
+}
+
 static void bad_options(void **state)
 {
     (void)state;
@@ -608,6 +659,7 @@ int main(void)
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),
+        cmocka_unit_test(recolouring_brings_the_colours_back),
         cmocka_unit_test(bad_options),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

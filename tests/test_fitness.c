@@ -142,6 +142,39 @@ static void identical_features_score_zero(void **state)
         assert_true(o[i] < 1e-9);
 }
 
+/* The palette's matching: it moves each side's weights whole (as far as the other side
+ * holds them), costs what the palette objective says, and pairs a colour with its own
+ * where it can. */
+static void palette_flow_moves_the_weights(void **state)
+{
+    (void)state;
+    SqParams p = stripes(3), q = stripes(3);
+    q.Background_Color[0] = 0.9; /* a redder ground */
+    SqFeatures a, b;
+    features_of(&p, 1.0, &a);
+    features_of(&q, 1.0, &b);
+    double flow[SQ_FIT_PALETTE][SQ_FIT_PALETTE], o[SQ_OBJ_COUNT];
+    const double d = sq_fit_palette_flow(&a, &b, flow);
+    objectives(&a, &b, o);
+    assert_true(fabs(d - o[SQ_OBJ_PALETTE]) < 1e-12 && d > 1);
+    double total = 0;
+    for (int i = 0; i < SQ_FIT_PALETTE; i++) {
+        double row = 0, col = 0;
+        for (int j = 0; j < SQ_FIT_PALETTE; j++) {
+            assert_true(flow[i][j] >= 0);
+            row += flow[i][j];
+            col += flow[j][i];
+        }
+        assert_true(row <= a.palette_w[i] + 1e-6 && col <= b.palette_w[i] + 1e-6);
+        total += row;
+    }
+    assert_true(fabs(total - 1) < 1e-4);
+    /* the same features: every colour onto itself, at no cost */
+    assert_true(sq_fit_palette_flow(&a, &a, flow) < 1e-9);
+    for (int i = 0; i < SQ_FIT_PALETTE; i++)
+        assert_true(fabs(flow[i][i] - a.palette_w[i]) < 1e-6);
+}
+
 /* Each objective sees its change more than a re-seeding of the same preset. */
 static void objectives_see_their_changes(void **state)
 {
@@ -445,6 +478,7 @@ int main(void)
         cmocka_unit_test(srgb_to_lab_reference),
         cmocka_unit_test(lab_to_srgb_round_trip),
         cmocka_unit_test(identical_features_score_zero),
+        cmocka_unit_test(palette_flow_moves_the_weights),
         cmocka_unit_test(objectives_see_their_changes),
         cmocka_unit_test(spectra_weigh_amounts),
         cmocka_unit_test(strips_are_stable),

@@ -106,6 +106,11 @@ SqStatus sq_fit_features_blurred(const SqImage *strip, const SqImage *valid, dou
 /* The objectives vector (SQ_OBJ_COUNT values, lower is better, 0 for identical features). */
 void sq_fit_objectives(const SqFeatures *target, const SqFeatures *candidate, double *out);
 
+/* The palette objective (SQ_OBJ_PALETTE) of a against b, and with flow not NULL how it
+ * matched them: flow[i][j], the weight of a's dominant colour i moved onto b's colour j
+ * (the cheapest pairs in CIEDE2000 first, as much as both hold). */
+double sq_fit_palette_flow(const SqFeatures *a, const SqFeatures *b, double flow[SQ_FIT_PALETTE][SQ_FIT_PALETTE]);
+
 /* A candidate's strip from its maps: SQ_FIT_STRIP_W columns across the band centred on
  * u = band_centre, `length` rows along v. view_scale is the number of body
  * circumferences one texture tile spans along the body (the UV layout's repeat): rows

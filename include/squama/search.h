@@ -263,7 +263,10 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     the band; by default, and whenever the layered kind is fitted); the champion polished by
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
  *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
- *     unless the twin scores more than 5% worse.
+ *     unless the twin scores more than 5% worse;
+ *  4. the alternatives: each other kind's best (SqFitResult.kind_best) with its colours
+ *     moved toward the photo's palette three ways, kept when it scores better re-scored
+ *     (after the search and beyond its budget; the champion is not touched).
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
@@ -361,6 +364,11 @@ typedef struct SqFitResult {
                                                best finalist or front member (after the
                                                polish) of the kind; no layered skin whose
                                                layer does not show */
+    int kind_recoloured[SQ_FIT_KINDS]; /* 1: this kind's best, not best.json's kind, had its
+                                          colours moved toward the photo's palette after
+                                          the pick, and scores better so */
+    long recolour_evals;     /* the evaluations that recolouring took, beyond evals */
+    double recolour_seconds; /* and the time */
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
     int survivor[SQ_FIT_KINDS]; /* 1: still evolving when stage 2 ended */
     long dropped_at[SQ_FIT_KINDS]; /* evaluations done when the niche was dropped; 0: it was not */
