@@ -1828,7 +1828,9 @@ static void recolour_kinds(Fit *f, int champion)
         }
     rescore(f, better, m);
     for (int i = 0; i < m; i++)
-        if (better[i].score < r->kind_best[kind[i]].score) {
+        if (better[i].score < r->kind_best[kind[i]].score &&
+            (kind[i] != SQ_FIT_LAYERED || /* a layer recoloured into its ground is none */
+             sq_fit_layer_visibility(&better[i].params, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE)) {
             r->kind_best[kind[i]] = better[i];
             r->kind_recoloured[kind[i]] = 1;
         }
@@ -1839,8 +1841,8 @@ static void recolour_kinds(Fit *f, int champion)
 /* Each kind's best once the champion is final: the front's members after the polish and
  * the plain twin count too (the polished pattern behind its plain twin is its kind's best),
  * the champion stands for its own kind (best.json), and a layered skin whose layer does not
- * show (LAYER_VISIBLE, as the layered champion's must) is none. The category scores stay
- * the ones the pick compared. */
+ * show (LAYER_VISIBLE, as the layered champion's must) is none; then the others are
+ * recoloured (recolour_kinds). The category scores stay the ones the pick compared. */
 static void kinds_final(Fit *f)
 {
     SqFitResult *r = f->r;
@@ -1851,11 +1853,11 @@ static void kinds_final(Fit *f)
     }
     const int champion = sq_fit_kind_of(&r->best.params);
     r->kind_best[champion] = r->best;
-    recolour_kinds(f, champion);
     SqFitCandidate *l = &r->kind_best[SQ_FIT_LAYERED];
     if (champion != SQ_FIT_LAYERED && isfinite(l->score) &&
         !(sq_fit_layer_visibility(&l->params, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE))
         l->score = INFINITY;
+    recolour_kinds(f, champion);
 }
 
 int sq_fit_kinds_offered(const SqFitResult *r, int order[SQ_FIT_KINDS])
