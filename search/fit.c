@@ -1751,12 +1751,13 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
 }
 
 /* Candidates' colours moved toward the photo's palette (sq__recoloured), each way scored
- * at size x size with the candidate's own seed: better[i] the best way when it scores
+ * at the fine size with the candidate's own seed: better[i] the best way when it scores
  * better than c[i] does there, else its score INFINITY. 1 + SQ_RECOLOUR_WAYS evaluations a
  * candidate. */
-static void recolour(Fit *f, const SqFitCandidate *c, int n, int size, SqFitCandidate *better)
+static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *better)
 {
     enum { W = SQ_RECOLOUR_WAYS };
+    const int size = f->o.fine_size;
     for (int i = 0; i < n; i++)
         better[i].score = INFINITY;
     SqFitCandidate *v = malloc(sizeof *v * (size_t)n * (W + 1));
@@ -1819,7 +1820,7 @@ static void recolour_kinds(Fit *f, int champion)
             kind[n] = k;
             c[n++] = r->kind_best[k];
         }
-    recolour(f, c, n, f->o.fine_size, better);
+    recolour(f, c, n, better);
     int m = 0;
     for (int i = 0; i < n; i++)
         if (isfinite(better[i].score)) {

@@ -284,8 +284,7 @@ static SqPatternLayer *red_spots_over_stripes(SqParams *p, SqParams *s)
     assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_3_longitudinal.json"), p, NULL,
                                     &err),
                      SQ_OK);
-    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), s, NULL, &err),
-                     SQ_OK);
+    thesis_spots(s);
     SqPatternLayer *l = &p->Pattern_Layers.layer[0];
     sq_pattern_layer_default(l);
     l->spec = s->pattern;
@@ -449,11 +448,9 @@ static void a_spot_lattice_read_is_searched(void **state)
 {
     (void)state;
     SKIP_WHEN_SANITIZED();
-    char path[4096];
     SqParams p;
     SqError err;
-    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
-                     SQ_OK);
+    thesis_spots(&p);
     p.Spots_Tiling = 1.3;
     p.Spots_Offset = 0.5;
     p.Spots_PositionRandom[0] = p.Spots_PositionRandom[1] = 0;
