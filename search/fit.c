@@ -95,6 +95,7 @@ typedef struct Fit {
         double tiling, offset, view;
     } spot_read[SPOT_READINGS]; /* the spot lattices read that started screening candidates */
     int nspot_read;
+    double tail_s; /* a time budget's seconds kept for what follows the polish (tail_seconds) */
 } Fit;
 
 SqFitOptions sq_fit_options_default(void)
@@ -1022,6 +1023,16 @@ static int unique(SqFitCandidate *c, int n)
     return k;
 }
 
+/* What a time budget keeps back, at `per` seconds a fine render (the re-scoring's pace),
+ * for what follows the polish: its re-score, the plain twin's and the alternatives'
+ * recolouring, at most 1 + SQ_RECOLOUR_WAYS + reseeds fine renders for each other kind
+ * (recolour_kinds). So the whole fit ends within its budget, not that much after it. */
+static double tail_seconds(const Fit *f, double per)
+{
+    const int others = ncategories(&f->o); /* the kinds fitted but one, and a layered skin */
+    return per * (2.0 * f->o.reseeds + others * (1.0 + SQ_RECOLOUR_WAYS + f->o.reseeds));
+}
+
 /* The finalists: over `reseeds` seeds at the fine size. */
 static void rescore(Fit *f, SqFitCandidate *c, int n)
 {
@@ -1339,7 +1350,7 @@ static void polish(Fit *f, SqFitCandidate *champ)
     nlopt_set_xtol_abs1(p.opt, 1e-3);
     nlopt_set_maxeval(p.opt, (int)evals);
     if (f->o.budget > 0) {
-        double left = f->o.budget - elapsed(f);
+        double left = f->o.budget - f->tail_s - elapsed(f);
         nlopt_set_maxtime(p.opt, left > 0.1 ? left : 0.1);
     }
     double minf = HUGE_VAL;
@@ -1435,7 +1446,7 @@ static void layer_search(Fit *f, const SqFitCandidate *fin, int nfin, const SqFi
     const int base = under->params.Pattern_Type;
     const long left = f->o.max_evals > 0 ? f->o.max_evals - f->evals - 2L * f->o.reseeds : 0;
     const long end = f->evals + (long)(LAYER_SHARE * (double)left);
-    const double deadline = elapsed(f) + LAYER_SHARE * (f->o.budget - elapsed(f));
+    const double deadline = elapsed(f) + LAYER_SHARE * (f->o.budget - f->tail_s - elapsed(f));
     SqFitCandidate *c = malloc(sizeof *c * (size_t)(nfin + ns));
     if (!c)
         return;
@@ -1803,9 +1814,9 @@ static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *bet
  * truth on the palette objective (docs/recovery.md, session 28), so the alternatives a
  * user is handed were often the right pattern in the wrong colours. Not before the pick:
  * recoloured niches lost more categories than they gained (a pattern aimed at the photo's
- * palette imitates a plain skin's shading). It comes after the search and beyond its
- * budget: up to (SQ_FIT_KINDS - 1) * (1 + SQ_RECOLOUR_WAYS + reseeds) renders at the fine
- * size. */
+ * palette imitates a plain skin's shading). It comes after the search: up to
+ * (SQ_FIT_KINDS - 1) * (1 + SQ_RECOLOUR_WAYS + reseeds) renders at the fine size, beyond
+ * an evaluation budget; a time budget kept their time back (tail_seconds). */
 static void recolour_kinds(Fit *f, int champion)
 {
     SqFitResult *r = f->r;
@@ -1999,7 +2010,10 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
             fin[nfin++] = f.archive[i];
     }
     nfin = unique(fin, nfin);
+    const double t_rescore = now();
     rescore(&f, fin, nfin);
+    if (o->budget > 0 && nfin > 0)
+        f.tail_s = tail_seconds(&f, (now() - t_rescore) / ((double)nfin * o->reseeds));
     st = finish(&f, fin, nfin, err);
     if (st != SQ_OK)
         goto done;

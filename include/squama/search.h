@@ -266,7 +266,9 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     unless the twin scores more than 5% worse;
  *  4. the alternatives: each other kind's best (SqFitResult.kind_best) with its colours
  *     moved toward the photo's palette three ways, kept when it scores better re-scored
- *     (after the search and beyond its budget; the champion is not touched).
+ *     (after the search and the champion untouched; beyond an evaluation budget, within a
+ *     time budget: the layer search and the polish leave it the time, at the pace the
+ *     re-scoring's fine renders went).
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
