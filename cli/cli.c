@@ -142,3 +142,10 @@ double cli_now_s(void)
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
+
+double cli_search_budget(double budget, double spent, int size)
+{
+    const double side = (double)size / 1024;
+    const double outputs = 1.0 + 2.0 * side * side;
+    return fmax(0.25 * budget, budget - spent - outputs);
+}

@@ -64,7 +64,7 @@ static const char help[] =
     "      --pool K         candidates drawn per preset (default 12; --near 4)\n"
     "  -m, --mask MASK      --from-photo: the snake's mask\n"
     "  -l, --line LINE      --from-photo: the body's centre line and width (see 'squama prepare')\n"
-    "  -b, --budget TIME    --from-photo: the fit's wall time (default 60s)\n"
+    "  -b, --budget TIME    --from-photo: the wall time of it all, as fit's (default 60s)\n"
     "      --evals N        --from-photo: an evaluation budget instead (deterministic)\n"
     "      --size N         the sheet's tiles, 32 to 1024 pixels (default 256)\n"
     "      --cols C         the sheet's columns (default: about the square root)\n"
@@ -519,6 +519,7 @@ int cmd_seed(int argc, char **argv)
         SqPrepared prep = {0};
         SqFeatures target;
         px.what = s.origin_name;
+        const double t0 = cli_now_s();
         if (cli_load_photo(origin, mask_path, line_path, &in, &err) != 0 || cli_prepare(&in, NULL, &prep, &err) != SQ_OK ||
             sq_fit_photo_target(&prep, &target, &err) != SQ_OK) {
             rc = cli_fail(&err);
@@ -527,6 +528,8 @@ int cmd_seed(int argc, char **argv)
             fo.seed = so.seed;
             fo.threads = so.threads;
             fo.budget = max_evals > 0 && budget == 0 ? 0 : budget > 0 ? budget : 60;
+            if (fo.budget > 0) /* the whole command's, as fit's */
+                fo.budget = cli_search_budget(fo.budget, cli_now_s() - t0, size);
             fo.max_evals = max_evals;
             fo.front_max = so.n > 24 ? so.n : 24;
             fo.progress = on_fit_progress;

@@ -123,9 +123,15 @@ static void progress(const SqFitProgress *p, void *ctx)
     fflush(stderr);
 }
 
+/* A job's clock: when it started, and the seconds its photo's preparation and its search
+ * took; the budget it was given (the whole command's) and the search's share of it. */
+typedef struct Clock {
+    double t0, prepare, search, budget, search_budget;
+} Clock;
+
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
                               const char *line_path, const SqBodyLine *line, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
-                              const SqFitResult *r, int size, double total_s, SqError *err)
+                              const SqFitResult *r, int size, const Clock *clock, SqError *err)
 {
     char path[4096];
     /* the front and the best preset */
@@ -234,10 +240,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON *se = cJSON_AddObjectToObject(root, "search");
     cJSON_AddStringToObject(se, "method", sq_fit_method_name(fo->method));
     cJSON_AddNumberToObject(se, "seed", (double)fo->seed);
-    cJSON_AddNumberToObject(se, "budget_s", fo->budget);
+    cJSON_AddNumberToObject(se, "budget_s", clock->budget); /* the whole command's */
+    cJSON_AddNumberToObject(se, "search_budget_s", clock->search_budget); /* less the photo's and the outputs' */
     cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
     cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
-    cJSON_AddNumberToObject(se, "evaluations_per_s", total_s > 0 ? r->evals / total_s : 0);
+    cJSON_AddNumberToObject(se, "evaluations_per_s", clock->search > 0 ? r->evals / clock->search : 0);
     cJSON_AddBoolToObject(se, "stopped_early", r->stopped);
     cJSON *ti = cJSON_AddObjectToObject(se, "seconds");
     static const char *const stages[SQ_FIT_STAGES] = {"screen", "evolve", "rescore", "polish"};
@@ -246,7 +253,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddNumberToObject(ti, "layer", r->layer_seconds); /* between the re-scoring and the polish */
     cJSON_AddNumberToObject(ti, "recolour", r->recolour_seconds); /* the alternatives, after the polish */
     cJSON_AddNumberToObject(se, "recolour_evaluations", (double)r->recolour_evals); /* beyond evaluations */
-    cJSON_AddNumberToObject(ti, "total", total_s);
+    cJSON_AddNumberToObject(ti, "search", clock->search);
+    cJSON_AddNumberToObject(ti, "prepare", clock->prepare); /* reading and preparing the photo */
+    const double total = cli_now_s() - clock->t0;
+    cJSON_AddNumberToObject(ti, "outputs", total - clock->prepare - clock->search); /* up to fit.json */
+    cJSON_AddNumberToObject(ti, "total", total);
     cJSON_AddItemToObject(root, "objectives", objectives_json(r->best.obj));
     cJSON_AddItemToObject(root, "score", sq__json_exact_number(r->best.score));
     cJSON_AddStringToObject(root, "pick_rule",
@@ -374,7 +385,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     free(text);
     if (st != SQ_OK)
         return st;
-    return cli_fit_report(outdir, photo_path, r, total_s, err);
+    return cli_fit_report(outdir, photo_path, r, clock->search, total, err);
 }
 
 void cli_fit_job_init(CliFitJob *job)
@@ -466,7 +477,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot create the output folder: %s", strerror(errno));
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
-    double t0 = cli_now_s();
+    Clock clock = {.t0 = cli_now_s(), .budget = job->fo.budget};
     CliPhoto in = {0};
     SqPrepared prep = {0};
     SqFeatures target;
@@ -480,6 +491,16 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         st = cli_prepare(&in, &job->po, &prep, err);
     if (st == SQ_OK)
         st = sq_fit_photo_target(&prep, &target, err);
+    clock.prepare = cli_now_s() - clock.t0;
+    if (fo.budget > 0) { /* the budget is the whole command's */
+        fo.budget = cli_search_budget(fo.budget, clock.prepare, job->size);
+        if (st == SQ_OK && !job->quiet && fo.budget < 0.5 * clock.budget)
+            fprintf(stderr,
+                    "squama: preparing the photo took %.1f s, and the outputs need time too: the search gets %.1f s "
+                    "of the %.1f s budget\n",
+                    clock.prepare, fo.budget, clock.budget);
+    }
+    clock.search_budget = fo.budget;
     if (st == SQ_OK) {
         x.outdir = job->outdir;
         x.quiet = job->quiet;
@@ -493,20 +514,21 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         fo.stop = job->stop;
         fo.strip = &prep.strip;
         fo.valid = &prep.valid;
+        const double t = cli_now_s();
         st = sq_fit_run(&target, &fo, &res, err);
+        clock.search = cli_now_s() - t;
         if (x.tty && !x.quiet && !x.json)
             fputs("\n", stderr);
     }
-    double total = cli_now_s() - t0;
     if (st == SQ_OK)
-        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in.line, &prep, &target, &fo, &res, job->size, total, err);
+        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in.line, &prep, &target, &fo, &res, job->size, &clock, err);
     if (st == SQ_OK) {
         if (x.checkpoint_error[0] && !job->quiet)
             fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);
         out->best = res.best;
         out->nfront = res.nfront;
         out->evals = res.evals;
-        out->seconds = total;
+        out->seconds = cli_now_s() - clock.t0;
         out->stopped = res.stopped;
     }
     sq_fit_result_free(&res);

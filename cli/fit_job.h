@@ -26,7 +26,9 @@ typedef struct CliFitOutcome {
     SqFitCandidate best;       /* best.json and its objectives and score */
     int nfront;
     long evals;
-    double seconds;            /* the whole job, from loading the photo to the report */
+    double seconds;            /* the whole job, from loading the photo to the report: within
+                                  fo.budget, when it is a time budget, as near as the
+                                  preparation and the outputs' reserve allow */
     int stopped;               /* stopped early through job->stop */
 } CliFitOutcome;
 

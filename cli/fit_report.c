@@ -102,7 +102,7 @@ static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
 }
 
 SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
-                        double total_s, SqError *err)
+                        double search_s, double total_s, SqError *err)
 {
     CliBuf b = {0};
     cli_buf_put(&b, "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama fit: ");
@@ -117,9 +117,9 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     cli_buf_put(&b, "<h1>squama fit</h1>\n<p>");
     cli_buf_html(&b, photo_path);
     cli_buf_put(&b, ": <b>%s</b> pattern, score %.3f, view scale %.2f body circumferences per texture tile. "
-            "%ld evaluations in %.1f s (%.0f per second)%s.</p>\n",
+            "%ld evaluations in %.1f s of search (%.0f per second), %.1f s in all%s.</p>\n",
         sq_fit_kind_name(sq_fit_kind_of(&r->best.params)), r->best.score, r->best.view_scale, r->evals,
-        total_s, r->evals / fmax(total_s, 1e-9), r->stopped ? "; <b>stopped early</b>" : "");
+        search_s, r->evals / fmax(search_s, 1e-9), total_s, r->stopped ? "; <b>stopped early</b>" : "");
     cli_buf_put(&b, "<div>\n");
     static const char *const pics[][2] = {
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},

@@ -231,6 +231,12 @@ assert f["format"] == "squama-fit/1", f["format"]
 assert set(f["objectives"]) == {"palette", "histogram", "shape", "along", "across"}
 s = f["search"]
 assert s["evaluations"] <= 300 and s["seed"] == 1 and f["view_scale"] > 0
+# an evaluation budget alone: no time budget; the command's time in three parts
+t = s["seconds"]
+assert s["budget_s"] == 0 and s["search_budget_s"] == 0, s
+assert all(t[x] >= 0 for x in ("prepare", "search", "outputs")), t
+assert abs(t["prepare"] + t["search"] + t["outputs"] - t["total"]) < 1e-6, t
+assert t["search"] >= t["screen"] + t["evolve"] + t["rescore"] + t["polish"], t
 assert f["category"] in f["category_scores"]
 # each kind's best as a preset; the chosen kind's is best.json, the others' the scores compared
 import os, struct
@@ -309,6 +315,25 @@ run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 
 check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
+# a time budget is the whole command's: the search gets it less the photo's preparation and
+# a reserve for the outputs (1 s, and 2 s times the maps' side over 1024 squared), at least a
+# quarter of it, and says so when that leaves it less than half
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitb" --budget 4s --size 64 -j 2 --categories none,spots
+check "fit --budget" 0
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitb1" --budget 1s --size 64 -j 2 --categories none,spots
+check "fit --budget 1s" 0 err "the search gets 0.2 s of the 1.0 s budget"
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/fitb/fit.json" "$TMP/fitb1/fit.json" <<'PY' || { echo "FAIL: the budget's share"; fails=$((fails + 1)); }
+import json, sys
+for path, budget in zip(sys.argv[1:], (4, 1)):
+    s = json.load(open(path))["search"]
+    t = s["seconds"]
+    share = max(0.25 * budget, budget - t["prepare"] - (1 + 2 * (64 / 1024) ** 2))
+    assert s["budget_s"] == budget and abs(s["search_budget_s"] - share) < 1e-9, (s, share)
+    assert s["evaluations"] > 0 and s["max_evaluations"] == 0, s
+    assert abs(t["prepare"] + t["search"] + t["outputs"] - t["total"]) < 1e-6, t
+PY
+fi
 
 # seed: starting presets for artists
 run seed --help;          check "seed --help" 0 out "usage: squama seed" out "farthest-point"
