@@ -232,9 +232,10 @@ int cmd_fit(int argc, char **argv)
                outdir, outdir, sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.best.score,
                r.best.view_scale, r.evals, r.seconds, r.stopped ? "true" : "false");
     } else if (!job.quiet) {
-        printf("%s: %s pattern, score %.3f, view scale %.2f; %ld evaluations in %.1f s (%.0f/s)%s\n",
-               job.photo, sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.best.score,
-               r.best.view_scale, r.evals, r.seconds, r.evals / fmax(r.seconds, 1e-9),
+        printf("%s: %s pattern, score %.3f, view scale %.2f; %ld evaluations in %.1f s of search (%.0f/s), "
+               "%.1f s in all%s\n",
+               job.photo, sq_fit_kind_name(sq_fit_kind_of(&r.best.params)), r.best.score, r.best.view_scale,
+               r.evals, r.search_seconds, r.evals / fmax(r.search_seconds, 1e-9), r.seconds,
                r.stopped ? ", stopped early" : "");
         printf("  objectives:");
         for (int k = 0; k < SQ_OBJ_COUNT; k++)

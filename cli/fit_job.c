@@ -496,8 +496,8 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         fo.budget = cli_search_budget(fo.budget, clock.prepare, job->size);
         if (st == SQ_OK && !job->quiet && fo.budget < 0.5 * clock.budget)
             fprintf(stderr,
-                    "squama: preparing the photo took %.1f s, and the outputs need time too: the search gets %.1f s "
-                    "of the %.1f s budget\n",
+                    "squama: warning: the photo's preparation (%.1f s) and the outputs' reserve leave the search "
+                    "%.2f s of the %.1f s budget; a longer --budget fits better\n",
                     clock.prepare, fo.budget, clock.budget);
     }
     clock.search_budget = fo.budget;
@@ -529,6 +529,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         out->nfront = res.nfront;
         out->evals = res.evals;
         out->seconds = cli_now_s() - clock.t0;
+        out->search_seconds = clock.search;
         out->stopped = res.stopped;
     }
     sq_fit_result_free(&res);

@@ -29,6 +29,7 @@ typedef struct CliFitOutcome {
     double seconds;            /* the whole job, from loading the photo to the report: within
                                   fo.budget, when it is a time budget, as near as the
                                   preparation and the outputs' reserve allow */
+    double search_seconds;     /* the search's part of it */
     int stopped;               /* stopped early through job->stop */
 } CliFitOutcome;
 

@@ -1023,14 +1023,22 @@ static int unique(SqFitCandidate *c, int n)
     return k;
 }
 
-/* What a time budget keeps back, at `per` seconds a fine render (the re-scoring's pace),
- * for what follows the polish: its re-score, the plain twin's and the alternatives'
- * recolouring, at most 1 + SQ_RECOLOUR_WAYS + reseeds fine renders for each other kind
- * (recolour_kinds). So the whole fit ends within its budget, not that much after it. */
+/* Rounds of n renders on the fit's threads. */
+static double rounds(const Fit *f, int n)
+{
+    return ceil((double)n / f->threads);
+}
+
+/* What a time budget keeps back for what follows the polish, at `per` seconds a round of
+ * fine renders on every thread (the re-scoring's pace): the polish's re-score and the
+ * plain twin's, and the alternatives' recolouring: a render, SQ_RECOLOUR_WAYS renders and a
+ * re-score for each other kind (recolour_kinds), counted for every kind fitted and a
+ * layered skin. So the whole fit ends within its budget, not that much after it. */
 static double tail_seconds(const Fit *f, double per)
 {
-    const int others = ncategories(&f->o); /* the kinds fitted but one, and a layered skin */
-    return per * (2.0 * f->o.reseeds + others * (1.0 + SQ_RECOLOUR_WAYS + f->o.reseeds));
+    const int others = ncategories(&f->o);
+    return per * (2 * rounds(f, f->o.reseeds) + rounds(f, others) + rounds(f, others * SQ_RECOLOUR_WAYS) +
+                  rounds(f, others * f->o.reseeds));
 }
 
 /* The finalists: over `reseeds` seeds at the fine size. */
@@ -2013,7 +2021,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     const double t_rescore = now();
     rescore(&f, fin, nfin);
     if (o->budget > 0 && nfin > 0)
-        f.tail_s = tail_seconds(&f, (now() - t_rescore) / ((double)nfin * o->reseeds));
+        f.tail_s = tail_seconds(&f, (now() - t_rescore) / rounds(&f, nfin * o->reseeds));
     st = finish(&f, fin, nfin, err);
     if (st != SQ_OK)
         goto done;
