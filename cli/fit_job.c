@@ -385,7 +385,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     free(text);
     if (st != SQ_OK)
         return st;
-    return cli_fit_report(outdir, photo_path, r, clock->search, total, err);
+    return cli_fit_report(outdir, photo_path, r, clock->prepare, clock->search, total, err);
 }
 
 void cli_fit_job_init(CliFitJob *job)

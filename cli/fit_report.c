@@ -102,7 +102,7 @@ static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
 }
 
 SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
-                        double search_s, double total_s, SqError *err)
+                        double prepare_s, double search_s, double total_s, SqError *err)
 {
     CliBuf b = {0};
     cli_buf_put(&b, "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama fit: ");
@@ -227,9 +227,11 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             cli_buf_put(&b, "<td>%.4f</td>", r->front[i].obj[k]);
         cli_buf_put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
     }
-    cli_buf_put(&b, "</table>\n<p>Timings: screen %.1f s, evolve %.1f s, re-score %.1f s, layer %.1f s, polish %.1f s, "
-            "the alternatives recoloured %.1f s. All numbers are in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
-        r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3], r->recolour_seconds);
+    cli_buf_put(&b, "</table>\n<p>Timings: the photo read and prepared %.1f s; screen %.1f s, evolve %.1f s, re-score %.1f s, "
+            "layer %.1f s, polish %.1f s, the alternatives recoloured %.1f s; the outputs written %.1f s. All numbers are "
+            "in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
+        prepare_s, r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3], r->recolour_seconds,
+        total_s - prepare_s - search_s);
     if (b.fail) {
         free(b.s);
         return sq_error_set(err, SQ_ERR_NOMEM, "report.html", "out of memory");

@@ -6,6 +6,6 @@
 
 /* Writes DIR/report.html (atomic) beside the images squama fit wrote there. */
 SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
-                        double search_s, double total_s, SqError *err);
+                        double prepare_s, double search_s, double total_s, SqError *err);
 
 #endif

@@ -270,6 +270,7 @@ assert [x["evaluations"] for x in d] == sorted(x["evaluations"] for x in d), d
 html = open(sys.argv[2]).read()
 assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" in html and "at the fitted view scale" in html
 assert "line.png" in html
+assert "s of search (" in html and "the photo read and prepared" in html and "the outputs written" in html
 assert "kinds.png" in html and all("kinds/%s.json" % x in html for x in k)
 assert "layer" in s["seconds"]
 l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
