@@ -124,9 +124,9 @@ static void progress(const SqFitProgress *p, void *ctx)
 }
 
 /* A job's clock: when it started, and the seconds its photo's preparation and its search
- * took; the budget it was given (the whole command's) and the search's share of it. */
+ * took; the budget it was given (the whole command's; the search's share is fo.budget). */
 typedef struct Clock {
-    double t0, prepare, search, budget, search_budget;
+    double t0, prepare, search, budget;
 } Clock;
 
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
@@ -241,7 +241,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddStringToObject(se, "method", sq_fit_method_name(fo->method));
     cJSON_AddNumberToObject(se, "seed", (double)fo->seed);
     cJSON_AddNumberToObject(se, "budget_s", clock->budget); /* the whole command's */
-    cJSON_AddNumberToObject(se, "search_budget_s", clock->search_budget); /* less the photo's and the outputs' */
+    cJSON_AddNumberToObject(se, "search_budget_s", fo->budget); /* less the photo's and the outputs' */
     cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
     cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
     cJSON_AddNumberToObject(se, "evaluations_per_s", clock->search > 0 ? r->evals / clock->search : 0);
@@ -500,7 +500,6 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
                     "%.2f s of the %.1f s budget; a longer --budget fits better\n",
                     clock.prepare, fo.budget, clock.budget);
     }
-    clock.search_budget = fo.budget;
     if (st == SQ_OK) {
         x.outdir = job->outdir;
         x.quiet = job->quiet;
