@@ -27,7 +27,14 @@ kind's best for the wrong rows, and their rank comes from fit.json's category_sc
 With --fidelity nothing is fitted: each truth is scored against its own photo at its true
 view scale (`squama score --view`), which says how well the objectives can recognise the
 right answer at all (0 = the photo's statistics exactly). Ends with:
-RESULT fidelity n=... palette=... histogram=... shape=... along=... across=... (means)"""
+RESULT fidelity n=... palette=... histogram=... shape=... along=... across=... (means)
+
+With --niche KIND each truth of that kind (or the --rows given) is fitted with KIND alone
+(`squama fit --categories KIND`, --evals or 1500), and the fit's score is divided by the
+truth's, the mean over 4 other pattern seeds at its true view scale, both under the fit's
+norms: how near that kind's own search comes to what is reachable, apart from the pick
+among kinds (1 = as near as another instance of the true pattern). Ends with:
+RESULT niche kind=... n=... geomean=... near=... (near: ratios within 1.1)"""
 import argparse
 import json
 import math
@@ -46,6 +53,7 @@ CATEGORIES = SIMPLE + ["complex", "layered"]
 OBJECTIVES = ["palette", "histogram", "shape", "along", "across"]  # as squama score names them, in its order
 RESEEDS = 4  # pattern seeds a truth is scored under, as bench_recovery compare does (its RESEEDS)
 COMPLEX_ROWS = 6
+NICHE_EVALS = 1500  # --niche's evaluation budget when --evals is not given (a single kind's fit)
 BASES = {
     "none": ["d11_five_lined_skink.json", "table_4_4_spots.json"],
     "longitudinal": ["d11_five_lined_skink.json", "table_4_3_longitudinal.json"],
@@ -113,14 +121,15 @@ def scale_errors(truth, view_t, fitted):
     return across, along
 
 
-def truth_at_best_view(args, photo, mask, truth, norm, out_dir):
-    """The truth's score against its photo at the best view scale of `squama score`'s grid,
-    its mean over RESEEDS other pattern seeds (as `bench_recovery compare` scores the truth).
-    The photo's strip need not see the truth at exactly its true view scale (the body's
-    width is measured from the photo), and the truth at another view scale is a candidate
-    the search could have found as well. Not under the truth's own seed: that draws the
-    photo's very pattern instance, which no search can find (row 30, viper blotches: 0.53
-    against a mean of 1.05 under five other seeds; docs/recovery.md, session 32)."""
+def truth_reseeded(args, photo, mask, truth, norm, out_dir, view=None):
+    """The truth's score against its photo, its mean over RESEEDS other pattern seeds (as
+    `bench_recovery compare` scores the truth), under the fit's norms: at the given view
+    scale, or at the best of `squama score`'s grid when view is None. The photo's strip need
+    not see the truth at exactly its true view scale (the body's width is measured from the
+    photo), and the truth at another view scale is a candidate the search could have found
+    as well. Not under the truth's own seed: that draws the photo's very pattern instance,
+    which no search can find (row 30, viper blotches: 0.53 against a mean of 1.05 under five
+    other seeds; docs/recovery.md, session 32)."""
     with open(truth) as f:
         t = json.load(f)
     files = []
@@ -129,11 +138,41 @@ def truth_at_best_view(args, photo, mask, truth, norm, out_dir):
         files.append(os.path.join(out_dir, "truth_reseed%d.json" % s))
         with open(files[-1], "w") as f:
             json.dump(t, f)
-    out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--json"] + files,
+    out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--json"] +
+                         ([] if view is None else ["--view", "%.6f" % view]) + files,
                          capture_output=True, text=True)
     if out.returncode != 0:
         sys.exit("recovery: score failed: " + out.stderr)
     return statistics.mean(sum(e["objectives"][k] / norm[k] for k in OBJECTIVES) for e in json.loads(out.stdout))
+
+
+def niche_row(args, i, cat, d, photo, mask, truth, view_t):
+    """--niche: the truth's photo fitted with the truth's kind alone (`--categories KIND`),
+    and the fit's score over the truth's mean over RESEEDS other seeds at its true view
+    scale, both under the fit's norms: how near the kind's own search comes to what is
+    reachable (1 = as near as another instance of the true pattern; docs/recovery.md,
+    session 32). Kept in DIR/niche_KIND and skipped on a rerun as a fit is."""
+    out = os.path.join(d, "niche_" + args.niche)
+    sq = fit(args, photo, mask, out, ["--evals", str(args.evals or NICHE_EVALS), "--categories", args.niche])
+    t = truth_reseeded(args, photo, mask, truth, sq["norm"], out, view_t)
+    row = {"i": i, "category": cat, "fit": sq["score"], "truth": t, "ratio": sq["score"] / t,
+           "view_t": view_t, "view_f": sq["view_scale"]}
+    print("[%2d/%d] %-12s fit %.3f  truth %.3f  ratio %.3f  view %.2f/%.2f" %
+          (i + 1, args.n, cat, row["fit"], t, row["ratio"], view_t, sq["view_scale"]), file=sys.stderr, flush=True)
+    return row
+
+
+def niche_table(args, rows):
+    with open(os.path.join(args.out, "niche_%s.json" % args.niche), "w") as f:
+        json.dump(rows, f, indent=1)
+    if not rows:
+        return print("\nRESULT niche kind=%s n=0" % args.niche)
+    g = math.exp(statistics.mean(math.log(r["ratio"]) for r in rows))
+    near = sum(r["ratio"] <= 1.1 for r in rows)
+    print("\nniche %s: %d photos fitted with that kind alone (--evals %d); the fit's score over the truth's "
+          "mean over %d other seeds, at its true view scale: geometric mean %.3f, within 10%% of the truth %d" %
+          (args.niche, len(rows), args.evals or NICHE_EVALS, RESEEDS, g, near))
+    print("\nRESULT niche kind=%s n=%d geomean=%.3f near=%d" % (args.niche, len(rows), g, near))
 
 
 def niche_best(args, truth, view_t, sq, cat, photo, mask, norm):
@@ -225,11 +264,17 @@ def main():
     ap.add_argument("--out", default="build-bench/recovery")
     ap.add_argument("--fidelity", action="store_true",
                     help="score each truth against its own photo instead of fitting")
+    ap.add_argument("--niche", choices=CATEGORIES,
+                    help="fit each truth of this kind with that kind alone (--evals, default %d) and "
+                         "print the fit's score over the truth's reseeded score (other rows with --rows)"
+                         % NICHE_EVALS)
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows = []
     t0 = time.time()
     only = {int(x) for x in args.rows.split(",") if x.strip()}
+    if args.niche and not only:
+        only = {i for i in range(args.n) if category_of(i)[0] == args.niche}
     for i in range(args.first, args.n):
         if only and i not in only:
             continue
@@ -253,6 +298,9 @@ def main():
         if args.fidelity:
             rows.append(fidelity(args, i, cat, photo, mask, truth, view_t))
             continue
+        if args.niche:
+            rows.append(niche_row(args, i, cat, d, photo, mask, truth, view_t))
+            continue
         sq = fit(args, photo, mask, os.path.join(d, "squama"),
                  ["--evals", str(args.evals)] if args.evals else ["--budget", args.budget])
         sq["dir"] = os.path.join(d, "squama")
@@ -263,7 +311,7 @@ def main():
         row["scales_across"], row["scales_along"] = scale_errors(truth, view_t, sq)
         row["kind_rank"] = kind_rank(sq, cat)
         if row["fitted"] != cat:
-            row["photo_truth_grid"] = truth_at_best_view(args, photo, mask, truth, norm, d)
+            row["photo_truth_grid"] = truth_reseeded(args, photo, mask, truth, norm, d)
             row["photo_niche"] = niche_best(args, truth, view_t, sq, cat, photo, mask, norm)
         row["baselines"] = {}
         if args.baseline_every and i % args.baseline_every == 0:
@@ -285,6 +333,8 @@ def main():
 
     if args.fidelity:
         return fidelity_table(rows)
+    if args.niche:
+        return niche_table(args, rows)
     how = "--evals %d" % args.evals if args.evals else "--budget %s" % args.budget
     print("\nrecovery: %d ground truths, squama fit %s, true masks" % (len(rows), how))
     print("%-14s %3s %9s %10s %12s %14s" % ("category", "n", "accuracy", "dE00 med", "ratio med", "scales off x/y"))
