@@ -1,4 +1,4 @@
-/* The recovery benchmark's two measuring tools (bench/recovery.py drives them):
+/* The recovery benchmark's measuring tools (bench/recovery.py drives the first two):
  *
  *   bench_recovery truth BASE.json CATEGORY SEED OUT.json
  *       a ground-truth preset: BASE with the pattern type CATEGORY (or, for "layered",
@@ -18,7 +18,15 @@
  *         photo_truth   the truth's distance to the photo
  *         ratio         photo_fit / photo_truth: 1 = the fit explains the photo as well as
  *                       the true preset does
- *   and prints them as one JSON object. */
+ *   and prints them as one JSON object.
+ *   bench_recovery features PHOTO MASK|-
+ *       the photo's features as a fit's target sees them, and the best automaton and spot
+ *       lattice read off its strip, as one JSON object ("-": the mask made as squama fit
+ *       makes one)
+ *   bench_recovery texfeatures PRESET VIEW SIZE
+ *       the same (without the readings) for the preset's candidate strip at view scale VIEW
+ *       under the key light, its maps SIZE texels square
+ *   (the kind-prior experiment's inputs: docs/recovery.md, session 35) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,27 +139,33 @@ static double distance(const SqFeatures *a, const SqFeatures *b, const double *n
     return d;
 }
 
-/* The photo's features, prepared with its mask as squama fit does. */
-static int photo_features(const char *photo, const char *mask, SqFeatures *out)
+/* The photo's features, prepared with its mask as squama fit does ("-": no mask, made as
+ * squama fit makes one). With prep not NULL the preparation is kept there (the caller
+ * frees it with sq_fit_prepared_free). */
+static int photo_features(const char *photo, const char *mask, SqFeatures *out, SqPrepared *prep)
 {
-    SqImage img, m, bin = {0};
+    SqImage img, m = {0}, bin = {0};
     SqError e;
+    const int automatic = strcmp(mask, "-") == 0;
     if (sq_io_read_image(photo, NULL, &img, NULL, &e) != SQ_OK)
         return fail(&e);
-    if (sq_io_read_image(mask, NULL, &m, NULL, &e) != SQ_OK)
+    if (!automatic && sq_io_read_image(mask, NULL, &m, NULL, &e) != SQ_OK) {
+        sq_image_free(&img);
         return fail(&e);
-    if (sq_image_alloc(&bin, m.width, m.height, 1, SQ_SPACE_DATA) != 0)
-        return 1;
-    for (size_t i = 0; i < (size_t)m.width * m.height; i++)
+    }
+    int rc = !automatic && sq_image_alloc(&bin, m.width, m.height, 1, SQ_SPACE_DATA) != 0;
+    for (size_t i = 0; !rc && !automatic && i < (size_t)m.width * m.height; i++)
         bin.px[i] = m.px[4 * i] >= 0.5f;
     SqPrepOptions po = sq_fit_prep_options_default();
-    SqPrepared prep;
-    int rc = sq_fit_prepare(&img, &bin, &po, &prep, &e) != SQ_OK ||
-             sq_fit_photo_target(&prep, out, &e) != SQ_OK;
-    if (rc)
-        fail(&e);
-    else
-        sq_fit_prepared_free(&prep);
+    SqPrepared own;
+    SqPrepared *pp = prep ? prep : &own;
+    if (!rc && sq_fit_prepare(&img, automatic ? NULL : &bin, &po, pp, &e) != SQ_OK)
+        rc = fail(&e);
+    else if (!rc && sq_fit_photo_target(pp, out, &e) != SQ_OK) {
+        rc = fail(&e);
+        sq_fit_prepared_free(pp);
+    } else if (!rc && !prep)
+        sq_fit_prepared_free(pp);
     sq_image_free(&img);
     sq_image_free(&m);
     sq_image_free(&bin);
@@ -170,7 +184,7 @@ static int compare(char **argv)
     SqTextures maps = {0};
     SqFeatures ph, ft, fx, fy, px, py;
     double tfit = 0, tre = 0, pfit = 0, ptru = 0, pal = 0, obj[SQ_OBJ_COUNT];
-    if (photo_features(argv[4], argv[5], &ph) || features(&t, t.Seed, vt, &maps, &ft, NULL, NULL))
+    if (photo_features(argv[4], argv[5], &ph, NULL) || features(&t, t.Seed, vt, &maps, &ft, NULL, NULL))
         return 1;
     for (int s = 1; s <= RESEEDS; s++) { /* texture space under the key light, the photo under its own */
         if (features(&f, 1000 + s, vf, &maps, &fx, &ph, &px) || features(&t, 2000 + s, vt, &maps, &fy, &ph, &py))
@@ -189,14 +203,93 @@ static int compare(char **argv)
     return 0;
 }
 
+static void put_floats(const char *name, const float *v, int n)
+{
+    printf("\"%s\": [", name);
+    for (int i = 0; i < n; i++)
+        printf("%s%.6g", i ? ", " : "", v[i]);
+    printf("], ");
+}
+
+/* Features as one JSON object: the target's (wavelet, spectra, profile, palette) and, with
+ * readings, the best automaton's and spot lattice's read off the strip (the kind-prior
+ * experiment's inputs, docs/recovery.md, session 35). */
+static void print_features(const SqFeatures *f, const SqImage *strip, const SqImage *valid, double body_width,
+                           int readings)
+{
+    SqCaReading ca[4];
+    SqSpotsReading sp[4];
+    const int nca = readings ? sq_fit_read_automata(strip, valid, 0.5, 1, ca, 4) : 0;
+    const int nsp = readings ? sq_fit_read_spots(strip, valid, sp, 4) : 0;
+    printf("{");
+    put_floats("wavelet", &f->wavelet[0][0], SQ_FIT_LEVELS * 3);
+    put_floats("along", f->along, SQ_FIT_BANDS);
+    put_floats("across", f->across, SQ_FIT_BANDS);
+    put_floats("profile", f->profile, SQ_FIT_PROFILE);
+    put_floats("palette", &f->palette[0][0], SQ_FIT_PALETTE * 3);
+    put_floats("palette_w", f->palette_w, SQ_FIT_PALETTE);
+    printf("\"along_power\": %.6g, \"across_power\": %.6g, \"blur\": %.6g, \"body_width\": %.6g, "
+           "\"ca_corr\": %.6g, \"ca_view\": %.6g, \"spots_score\": %.6g, \"spots_skew\": %.6g, "
+           "\"spots_across\": %d}\n",
+           f->along_power, f->across_power, f->blur, body_width, nca ? ca[0].corr : 0, nca ? ca[0].view_scale : 0,
+           nsp ? sp[0].score : 0, nsp ? sp[0].skew : 0, nsp ? sp[0].across : 0);
+}
+
+static int photo_features_json(const char *photo, const char *mask)
+{
+    SqPrepared prep;
+    SqFeatures f;
+    if (photo_features(photo, mask, &f, &prep))
+        return 1;
+    print_features(&f, &prep.strip, &prep.valid, prep.body_width, 1);
+    sq_fit_prepared_free(&prep);
+    return 0;
+}
+
+/* The same, without the readings, for a preset's candidate strip at a view scale under the
+ * key light, its maps SIZE texels square, its reaction-diffusion grid the fit's (48 cells). */
+static int tex_features_json(const char *preset, double view, int size)
+{
+    SqParams p;
+    SqError e;
+    if (sq_preset_load(preset, &p, NULL, &e) != SQ_OK)
+        return fail(&e);
+    p.RD_Cells = 48; /* as the fit's candidates are (search/fit.c FIT_RD_CELLS) */
+    if (size < 16 || size > 4096 || !(view > 0)) {
+        fprintf(stderr, "bench_recovery: texfeatures wants a view scale over 0 and a size of 16 to 4096\n");
+        return 1;
+    }
+    SqTextures maps = {0};
+    SqGenOptions go = sq_gen_options_default(size);
+    SqImage strip = {0};
+    SqFeatures f;
+    int rc = sq_gen_render_into(&p, &go, &maps, &e) != SQ_OK ||
+             sq_fit_candidate_strip(&maps.basecolor, &maps.normal, &maps.roughness, NULL, view, 0.5, ROWS, &strip,
+                                    &e) != SQ_OK ||
+             sq_fit_features(&strip, NULL, &f, &e) != SQ_OK;
+    if (rc)
+        fail(&e);
+    else
+        print_features(&f, &strip, NULL, 0, 0);
+    sq_image_free(&strip);
+    sq_gen_textures_free(&maps);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 6 && strcmp(argv[1], "truth") == 0)
         return truth(argv[2], argv[3], atol(argv[4]), argv[5]);
     if (argc == 8 + SQ_OBJ_COUNT && strcmp(argv[1], "compare") == 0)
         return compare(argv + 2);
+    if (argc == 4 && strcmp(argv[1], "features") == 0)
+        return photo_features_json(argv[2], argv[3]);
+    if (argc == 5 && strcmp(argv[1], "texfeatures") == 0)
+        return tex_features_json(argv[2], atof(argv[3]), atoi(argv[4]));
     fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
                     "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM...\n"
+                    "       bench_recovery features PHOTO MASK|-\n"
+                    "       bench_recovery texfeatures PRESET VIEW SIZE\n"
                     "       (one NORM per objective, in the order of sq_fit_objective_name)\n");
     return 2;
 }
