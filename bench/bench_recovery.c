@@ -106,14 +106,15 @@ static int truth(const char *base, const char *category, long seed, const char *
     return 0;
 }
 
-/* A preset's features at a view scale: under the key light (texture space), and when
- * photo is not NULL under the photo's light too (as the fit sees it against the photo). */
-static int features(const SqParams *p, int seed, double view, SqTextures *maps, SqFeatures *key,
+/* A preset's features at a view scale, its maps size texels square: under the key light
+ * (texture space), and when photo is not NULL under the photo's light too (as the fit sees
+ * it against the photo). */
+static int features(const SqParams *p, int seed, int size, double view, SqTextures *maps, SqFeatures *key,
                     const SqFeatures *photo, SqFeatures *lit)
 {
     SqParams q = *p;
     q.Seed = seed;
-    SqGenOptions go = sq_gen_options_default(SIZE);
+    SqGenOptions go = sq_gen_options_default(size);
     SqError e;
     if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK)
         return fail(&e);
@@ -153,18 +154,21 @@ static int photo_features(const char *photo, const char *mask, SqFeatures *out, 
         sq_image_free(&img);
         return fail(&e);
     }
-    int rc = !automatic && sq_image_alloc(&bin, m.width, m.height, 1, SQ_SPACE_DATA) != 0;
-    for (size_t i = 0; !rc && !automatic && i < (size_t)m.width * m.height; i++)
-        bin.px[i] = m.px[4 * i] >= 0.5f;
+    int rc = 0, prepared = 0;
+    if (!automatic) {
+        rc = sq_image_alloc(&bin, m.width, m.height, 1, SQ_SPACE_DATA) != 0;
+        for (size_t i = 0; !rc && i < (size_t)m.width * m.height; i++)
+            bin.px[i] = m.px[4 * i] >= 0.5f;
+    }
     SqPrepOptions po = sq_fit_prep_options_default();
-    SqPrepared own;
-    SqPrepared *pp = prep ? prep : &own;
-    if (!rc && sq_fit_prepare(&img, automatic ? NULL : &bin, &po, pp, &e) != SQ_OK)
-        rc = fail(&e);
-    else if (!rc && sq_fit_photo_target(pp, out, &e) != SQ_OK) {
-        rc = fail(&e);
-        sq_fit_prepared_free(pp);
-    } else if (!rc && !prep)
+    SqPrepared own, *pp = prep ? prep : &own;
+    if (!rc) {
+        prepared = sq_fit_prepare(&img, automatic ? NULL : &bin, &po, pp, &e) == SQ_OK;
+        rc = !prepared || sq_fit_photo_target(pp, out, &e) != SQ_OK;
+        if (rc)
+            fail(&e);
+    }
+    if (prepared && (rc || !prep))
         sq_fit_prepared_free(pp);
     sq_image_free(&img);
     sq_image_free(&m);
@@ -184,10 +188,11 @@ static int compare(char **argv)
     SqTextures maps = {0};
     SqFeatures ph, ft, fx, fy, px, py;
     double tfit = 0, tre = 0, pfit = 0, ptru = 0, pal = 0, obj[SQ_OBJ_COUNT];
-    if (photo_features(argv[4], argv[5], &ph, NULL) || features(&t, t.Seed, vt, &maps, &ft, NULL, NULL))
+    if (photo_features(argv[4], argv[5], &ph, NULL) || features(&t, t.Seed, SIZE, vt, &maps, &ft, NULL, NULL))
         return 1;
     for (int s = 1; s <= RESEEDS; s++) { /* texture space under the key light, the photo under its own */
-        if (features(&f, 1000 + s, vf, &maps, &fx, &ph, &px) || features(&t, 2000 + s, vt, &maps, &fy, &ph, &py))
+        if (features(&f, 1000 + s, SIZE, vf, &maps, &fx, &ph, &px) ||
+            features(&t, 2000 + s, SIZE, vt, &maps, &fy, &ph, &py))
             return 1;
         tfit += distance(&ft, &fx, norm) / RESEEDS;
         tre += distance(&ft, &fy, norm) / RESEEDS;
@@ -250,28 +255,20 @@ static int photo_features_json(const char *photo, const char *mask)
  * key light, its maps SIZE texels square, its reaction-diffusion grid the fit's (48 cells). */
 static int tex_features_json(const char *preset, double view, int size)
 {
+    if (size < 16 || size > 4096 || !(view > 0)) {
+        fprintf(stderr, "bench_recovery: texfeatures wants a view scale over 0 and a size of 16 to 4096\n");
+        return 1;
+    }
     SqParams p;
     SqError e;
     if (sq_preset_load(preset, &p, NULL, &e) != SQ_OK)
         return fail(&e);
     p.RD_Cells = 48; /* as the fit's candidates are (search/fit.c FIT_RD_CELLS) */
-    if (size < 16 || size > 4096 || !(view > 0)) {
-        fprintf(stderr, "bench_recovery: texfeatures wants a view scale over 0 and a size of 16 to 4096\n");
-        return 1;
-    }
     SqTextures maps = {0};
-    SqGenOptions go = sq_gen_options_default(size);
-    SqImage strip = {0};
     SqFeatures f;
-    int rc = sq_gen_render_into(&p, &go, &maps, &e) != SQ_OK ||
-             sq_fit_candidate_strip(&maps.basecolor, &maps.normal, &maps.roughness, NULL, view, 0.5, ROWS, &strip,
-                                    &e) != SQ_OK ||
-             sq_fit_features(&strip, NULL, &f, &e) != SQ_OK;
-    if (rc)
-        fail(&e);
-    else
-        print_features(&f, &strip, NULL, 0, 0);
-    sq_image_free(&strip);
+    const int rc = features(&p, p.Seed, size, view, &maps, &f, NULL, NULL);
+    if (!rc)
+        print_features(&f, NULL, NULL, 0, 0);
     sq_gen_textures_free(&maps);
     return rc;
 }
@@ -288,8 +285,8 @@ int main(int argc, char **argv)
         return tex_features_json(argv[2], atof(argv[3]), atoi(argv[4]));
     fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
                     "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM...\n"
+                    "       (one NORM per objective, in the order of sq_fit_objective_name)\n"
                     "       bench_recovery features PHOTO MASK|-\n"
-                    "       bench_recovery texfeatures PRESET VIEW SIZE\n"
-                    "       (one NORM per objective, in the order of sq_fit_objective_name)\n");
+                    "       bench_recovery texfeatures PRESET VIEW SIZE\n");
     return 2;
 }
