@@ -241,14 +241,35 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
     if (!img || !img->px || img->channels < 3 || !text)
         return sq_error_set(err, SQ_ERR_INVALID, "text", "no colour image to draw on");
     try {
-        // the image's own pixels, wrapped: drawing writes straight into them
-        ImageSpec spec(img->width, img->height, img->channels, TypeDesc::FLOAT);
-        ImageBuf buf(spec, img->px);
-        float rgba[4] = {color[0], color[1], color[2], 1.0f};
-        if (!ImageBufAlgo::render_text(buf, x, y, text, px_size, "DejaVuSans",
-                                       cspan<float>(rgba, img->channels)))
-            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: %s",
-                                buf.geterror().c_str());
+        // The glyphs' coverage is drawn into a buffer of their own that holds the whole
+        // text, then blended into the image where the two overlap: OpenImageIO 2.4's
+        // render_text aborts (a failed assertion, not an error) on text that runs over
+        // the image's edge, as a label beside a point near the top of a photo does.
+        ROI box = ImageBufAlgo::text_size(text, px_size, "DejaVuSans");
+        if (!box.defined())
+            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: no DejaVu Sans font found");
+        const int pad = 2, w = box.width() + 2 * pad, h = box.height() + 2 * pad;
+        const int x0 = x + box.xbegin - pad, y0 = y + box.ybegin - pad; // the buffer's place in img
+        if (x0 >= img->width || y0 >= img->height || x0 + w <= 0 || y0 + h <= 0)
+            return SQ_OK; // nothing of it shows
+        ImageBuf cover(ImageSpec(w, h, 1, TypeDesc::FLOAT));
+        ImageBufAlgo::zero(cover);
+        const float one = 1.0f;
+        if (!ImageBufAlgo::render_text(cover, x - x0, y - y0, text, px_size, "DejaVuSans", cspan<float>(&one, 1)))
+            return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: %s", cover.geterror().c_str());
+        const float *a = static_cast<const float *>(cover.localpixels());
+        const int ch = img->channels;
+        for (int j = y0 < 0 ? -y0 : 0; j < h && y0 + j < img->height; j++)
+            for (int i = x0 < 0 ? -x0 : 0; i < w && x0 + i < img->width; i++) {
+                const float t = a[(size_t)j * w + i];
+                if (t <= 0)
+                    continue;
+                float *px = img->px + ((size_t)(y0 + j) * img->width + (size_t)(x0 + i)) * ch;
+                for (int c = 0; c < 3; c++)
+                    px[c] = color[c] * t + px[c] * (1 - t);
+                if (ch > 3)
+                    px[3] = t + px[3] * (1 - t);
+            }
         return SQ_OK;
     } catch (const std::exception &e) {
         return sq_error_set(err, SQ_ERR_INTERNAL, "text", "cannot draw text: %s", e.what());

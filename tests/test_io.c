@@ -329,6 +329,66 @@ static void atomic_writes_and_write_errors(void **state)
     assert_no_temp_files();
 }
 
+/* Pixels of img that differ from the flat grey v; their bounding box in *box (x0, y0,
+ * x1, y1). */
+static int changed(const SqImage *img, float v, int box[4])
+{
+    int n = 0;
+    box[0] = box[1] = 1 << 30;
+    box[2] = box[3] = -1;
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++)
+            if (fabsf(sq_image_at(img, x, y)[0] - v) > 1e-6f) {
+                n++;
+                box[0] = x < box[0] ? x : box[0];
+                box[1] = y < box[1] ? y : box[1];
+                box[2] = x > box[2] ? x : box[2];
+                box[3] = y > box[3] ? y : box[3];
+            }
+    return n;
+}
+
+/* Text lands where it is put, and text running over any edge, or wholly outside, is
+ * clipped: OpenImageIO 2.4 aborted on a label above the top edge (a body line's first
+ * point near the top of a real photo killed a whole batch). */
+static void text_drawn_and_clipped_at_the_edges(void **state)
+{
+    (void)state;
+    const float red[3] = {1, 0, 0};
+    const int pos[][2] = {{10, 20}, {10, 4}, {10, -3}, {-6, 20}, {50, 20}, {10, 36}, {-40, -40}, {500, 500}};
+    for (int ch = 3; ch <= 4; ch++)
+        for (size_t k = 0; k < sizeof pos / sizeof pos[0]; k++) {
+            SqImage img;
+            SqError err;
+            assert_int_equal(sq_image_alloc(&img, 64, 32, ch, SQ_SPACE_SRGB), 0);
+            for (size_t i = 0; i < (size_t)64 * 32 * ch; i++)
+                img.px[i] = 0.5f;
+            const int x = pos[k][0], y = pos[k][1];
+            SqStatus st = sq_io_draw_text(&img, x, y, 11, "0:0", red, &err);
+            if (st == SQ_ERR_UNSUPPORTED) { /* no font on this machine */
+                sq_image_free(&img);
+                skip();
+            }
+            assert_int_equal(st, SQ_OK);
+            int box[4];
+            const int n = changed(&img, 0.5f, box);
+            if (k == 0) { /* wholly inside: glyphs about 11 pixels tall above the baseline */
+                assert_true(n > 20);
+                assert_true(box[0] >= x && box[2] < x + 30 && box[1] >= y - 12 && box[3] <= y + 3);
+            } else if (k == 1 || k == 3 || k == 4) { /* over the top, left or right edge */
+                assert_true(n > 5);
+            } else if (k >= 6) { /* wholly outside */
+                assert_int_equal(n, 0);
+            }
+            for (int yy = 0; yy < 32; yy++) /* only towards red, alpha untouched at 1 or raised */
+                for (int xx = 0; xx < 64; xx++) {
+                    const float *p = sq_image_at(&img, xx, yy);
+                    assert_true(p[0] >= 0.5f - 1e-6f && p[1] <= 0.5f + 1e-6f);
+                }
+            sq_image_free(&img);
+        }
+}
+
 /* Real photos from ../shared/photos decode when the folder is there. */
 static void real_photos_decode(void **state)
 {
@@ -362,6 +422,7 @@ int main(void)
         cmocka_unit_test(pixel_limit_checked_before_decoding),
         cmocka_unit_test(corrupt_files_refused_cleanly),
         cmocka_unit_test(atomic_writes_and_write_errors),
+        cmocka_unit_test(text_drawn_and_clipped_at_the_edges),
         cmocka_unit_test(real_photos_decode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
