@@ -2,12 +2,16 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <signal.h>
+#include <spawn.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 
 #include <cjson/cJSON.h>
@@ -16,6 +20,7 @@
 #include "cli.h"
 #include "json_util.h"
 #include "squama/io.h"
+#include "squama/search.h"
 #include "thumb.h"
 
 /* FNV-1a (64 bits) of a file's bytes as 16 hex digits, "" when it cannot be read: a row
@@ -160,6 +165,160 @@ int batch_read_done(const Batch *b, int i, int other_shard, BatchResult *out)
     return ok;
 }
 
+extern char **environ;
+
+/* What batch_fit_row reads back of a row's fit. */
+typedef struct RowFit {
+    int fitted; /* SqPatternType */
+    double score, obj[SQ_OBJ_COUNT], seconds;
+    long evals;
+} RowFit;
+
+/* The outcome of a fit from its DIR/fit.json. */
+static SqStatus read_fit_json(const char *dir, RowFit *out, SqError *err)
+{
+    char path[4200], *text = NULL;
+    size_t len;
+    snprintf(path, sizeof path, "%s/fit.json", dir);
+    SqStatus st = sq_io_read_file(path, 64 << 20, &text, &len, err);
+    if (st != SQ_OK)
+        return st;
+    cJSON *root = cJSON_ParseWithLength(text, len);
+    free(text);
+    const cJSON *cat = cJSON_GetObjectItemCaseSensitive(root, "category"),
+                *score = cJSON_GetObjectItemCaseSensitive(root, "score"),
+                *obj = cJSON_GetObjectItemCaseSensitive(root, "objectives"),
+                *se = cJSON_GetObjectItemCaseSensitive(root, "search"),
+                *ev = cJSON_GetObjectItemCaseSensitive(se, "evaluations"),
+                *secs = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(se, "seconds"), "total");
+    out->fitted = -1;
+    if (cJSON_IsString(cat)) { /* a layered skin combines pattern types: the thesis' complex category (its Sec. 4.2.5) */
+        for (int k = 0; k < SQ_FIT_KINDS; k++)
+            if (strcmp(cat->valuestring, sq_fit_kind_name(k)) == 0)
+                out->fitted = k == SQ_FIT_LAYERED ? SQ_PATTERN_COMPLEX : k;
+    }
+    int ok = out->fitted >= 0 && cJSON_IsNumber(score) && cJSON_IsNumber(ev) && cJSON_IsNumber(secs);
+    for (int k = 0; ok && k < SQ_OBJ_COUNT; k++) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, sq_fit_objective_name(k));
+        ok = cJSON_IsNumber(v);
+        if (ok)
+            out->obj[k] = v->valuedouble;
+    }
+    if (ok) {
+        out->score = score->valuedouble;
+        out->evals = (long)ev->valuedouble;
+        out->seconds = secs->valuedouble;
+    }
+    cJSON_Delete(root);
+    return ok ? SQ_OK : sq_error_set(err, SQ_ERR_PARSE, path, "the fit's record lacks its category, score or objectives");
+}
+
+/* The last line of a file that is not empty, without a leading "squama: ". */
+static void last_line(const char *path, char *out, size_t n)
+{
+    out[0] = 0;
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        return;
+    char line[2048];
+    while (fgets(line, sizeof line, fp)) {
+        line[strcspn(line, "\r\n")] = 0;
+        if (line[0]) {
+            const char *t = strncmp(line, "squama: ", 8) == 0 ? line + 8 : line;
+            size_t m = strlen(t) < n ? strlen(t) : n - 1;
+            memcpy(out, t, m);
+            out[m] = 0;
+        }
+    }
+    fclose(fp);
+}
+
+/* Fits a row in a process of its own, `squama fit` with the batch's settings, so that a
+ * fit that crashes (a library's failed assertion, say) costs its row and not the batch:
+ * the program is this squama, or $SQUAMA_FIT_PROGRAM (the tests' way to make a row
+ * crash). Its error output goes to log; a fit that fails leaves its message there. */
+static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out, SqError *err)
+{
+    const SqFitOptions *fo = &job->fo;
+    char budget[64], evals[32], seed[32], threads[32], size[32], work[32], cats[256] = "";
+    const char *argv[32];
+    int a = 0;
+    argv[a++] = "squama";
+    argv[a++] = "fit";
+    argv[a++] = job->photo;
+    argv[a++] = "-o";
+    argv[a++] = job->outdir;
+    if (job->mask) {
+        argv[a++] = "--mask";
+        argv[a++] = job->mask;
+    }
+    if (job->line) {
+        argv[a++] = "--line";
+        argv[a++] = job->line;
+    }
+    if (fo->budget > 0) {
+        snprintf(budget, sizeof budget, "%.17gs", fo->budget);
+        argv[a++] = "--budget";
+        argv[a++] = budget;
+    }
+    if (fo->max_evals > 0) {
+        snprintf(evals, sizeof evals, "%ld", fo->max_evals);
+        argv[a++] = "--evals";
+        argv[a++] = evals;
+    }
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)fo->seed);
+    snprintf(threads, sizeof threads, "%d", fo->threads > 0 ? fo->threads : 1);
+    snprintf(size, sizeof size, "%d", job->size);
+    snprintf(work, sizeof work, "%d", job->po.work_size);
+    argv[a++] = "--seed";
+    argv[a++] = seed;
+    argv[a++] = "--threads";
+    argv[a++] = threads;
+    argv[a++] = "--size";
+    argv[a++] = size;
+    argv[a++] = "--work-size";
+    argv[a++] = work;
+    if (fo->categories) {
+        for (int k = 0; k < SQ_FIT_KINDS; k++)
+            if ((fo->categories >> k) & 1u)
+                snprintf(cats + strlen(cats), sizeof cats - strlen(cats), "%s%s", cats[0] ? "," : "", sq_fit_kind_name(k));
+        argv[a++] = "--categories";
+        argv[a++] = cats;
+    }
+    argv[a++] = "-q";
+    argv[a] = NULL;
+
+    const char *prog = getenv("SQUAMA_FIT_PROGRAM");
+    if (!prog || !prog[0])
+        prog = "/proc/self/exe";
+    posix_spawn_file_actions_t fa;
+    if (posix_spawn_file_actions_init(&fa) != 0)
+        return sq_error_set(err, SQ_ERR_NOMEM, "batch", "out of memory to start a fit");
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid;
+    int rc = posix_spawn(&pid, prog, &fa, NULL, (char *const *)argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0)
+        return sq_error_set(err, SQ_ERR_IO, prog, "cannot start the fit: %s", strerror(rc));
+    int status;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            return sq_error_set(err, SQ_ERR_INTERNAL, "batch", "lost the fit's process: %s", strerror(errno));
+    char msg[900];
+    last_line(log, msg, sizeof msg);
+    if (WIFSIGNALED(status))
+        return sq_error_set(err, SQ_ERR_INTERNAL, NULL, "the fit crashed (signal %d, %s)%s%s", WTERMSIG(status),
+                            strsignal(WTERMSIG(status)), msg[0] ? ": " : "", msg);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        if (!msg[0])
+            snprintf(msg, sizeof msg, "the fit failed (exit %d) without saying why", WEXITSTATUS(status));
+        return sq_error_set(err, SQ_ERR_INTERNAL, NULL, "%s", msg);
+    }
+    return read_fit_json(job->outdir, out, err);
+}
+
 void batch_fit_row(const Batch *b, int i, BatchResult *out)
 {
     const CliManifestRow *row = &b->rows[i];
@@ -167,12 +326,13 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     out->row = i;
     out->fitted = -1;
     out->rank = b->rank;
-    char tmp[4096], final[4096];
+    char tmp[4096], final[4096], log[4200];
     SqError err;
     sq_error_clear(&err);
     SqStatus st = SQ_OK;
     if (cli_pathf(tmp, sizeof tmp, "%s/.tmp-%s", b->outdir, row->id) != 0 ||
-        cli_pathf(final, sizeof final, "%s/%s", b->outdir, row->id) != 0) {
+        cli_pathf(final, sizeof final, "%s/%s", b->outdir, row->id) != 0 ||
+        cli_pathf(log, sizeof log, "%s/.tmp-%s.log", b->outdir, row->id) != 0) {
         out->status = BATCH_ERROR;
         snprintf(out->error, sizeof out->error, "the output folder's path is too long");
         return;
@@ -191,9 +351,10 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     job.quiet = 1;
     job.json = 0;
     job.fo.threads = b->threads;
-    CliFitOutcome fit;
+    RowFit fit;
     if (st == SQ_OK)
-        st = cli_fit_job_run(&job, &fit, &err);
+        st = fit_in_child(&job, log, &fit, &err);
+    remove(log);
     if (st == SQ_OK) {
         /* the photo with what the mask leaves out veiled, the textures, the strips */
         static const char *const thumbs[][3] = {{"photo.jpg", "mask.png", "thumb_photo.png"},
@@ -211,11 +372,9 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     }
     if (st == SQ_OK) {
         out->status = BATCH_OK;
-        /* a layered skin combines pattern types: the thesis' complex category (its Sec. 4.2.5) */
-        out->fitted = sq_fit_kind_of(&fit.best.params) == SQ_FIT_LAYERED ? SQ_PATTERN_COMPLEX
-                                                                          : fit.best.params.Pattern_Type;
-        out->score = fit.best.score;
-        memcpy(out->obj, fit.best.obj, sizeof out->obj);
+        out->fitted = fit.fitted;
+        out->score = fit.score;
+        memcpy(out->obj, fit.obj, sizeof out->obj);
         out->evals = fit.evals;
         out->seconds = fit.seconds;
     } else {

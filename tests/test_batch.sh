@@ -176,6 +176,26 @@ PY
   grep '"id":"k1"' "$out" | grep -q '"resumed":true' || fail "k1 was fitted again after the kill"
   [ "$(catalogue_ids "$TMP/k" ok)" = "k1 k2 k3 k4 k5 k6 k7 k8" ] || fail "after the kill: $(catalogue_ids "$TMP/k" ok)"
   ls -a "$TMP/k" | grep -q '^\.tmp-' && fail "a partial row was left after the rerun"
+
+  # a fit that crashes (a library's failed assertion aborts it) costs its row, not the
+  # batch: each row is fitted in a process of its own ($SQUAMA_FIT_PROGRAM stands in for
+  # squama here, aborting on the striped photo); the crash is listed with the fit's last
+  # words, and a rerun fits that row again
+  cat >"$TMP/crashy" <<EOF
+#!/bin/sh
+case "\$2" in *stripes.jpg) echo "squama: Assertion 'm_valid' failed." >&2; kill -ABRT \$\$ ;; esac
+exec "$SQ" "\$@"
+EOF
+  chmod +x "$TMP/crashy"
+  printf 'id,photo\nbands,photos/bands.jpg\nstripes,photos/stripes.jpg\n' >"$TMP/c.csv"
+  SQUAMA_FIT_PROGRAM="$TMP/crashy" run batch "$TMP/c.csv" -o "$TMP/c" "${FIT[@]}" --json --jobs 2 -j 1
+  check "batch with a crashing fit" 0 out '"rows":2' out '"ok":1' out '"errors":1'
+  grep '"id":"stripes"' "$out" | grep -q "the fit crashed (signal 6, Aborted): Assertion 'm_valid' failed." ||
+    fail "the crash is not listed with its signal and message"
+  [ "$(catalogue_ids "$TMP/c" ok)" = "bands" ] || fail "after the crash: $(catalogue_ids "$TMP/c" ok)"
+  ls -a "$TMP/c" | grep -q '^\.tmp-' && fail "the crash left a partial row or its log"
+  run batch "$TMP/c.csv" -o "$TMP/c" "${FIT[@]}" --json
+  check "the crashed row fitted again" 0 out '"ok":2' out '"resumed":1'
 fi
 
 if [ "$PART" = shard ]; then
