@@ -5,14 +5,15 @@
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
-#include <spawn.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -291,17 +292,25 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
     const char *prog = getenv("SQUAMA_FIT_PROGRAM");
     if (!prog || !prog[0])
         prog = "/proc/self/exe";
-    posix_spawn_file_actions_t fa;
-    if (posix_spawn_file_actions_init(&fa) != 0)
-        return sq_error_set(err, SQ_ERR_NOMEM, "batch", "out of memory to start a fit");
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid;
-    int rc = posix_spawn(&pid, prog, &fa, NULL, (char *const *)argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        return sq_error_set(err, SQ_ERR_IO, prog, "cannot start the fit: %s", strerror(rc));
+    /* forked, then only async-signal-safe calls until the exec; the child dies with the
+     * thread that started it (a batch killed outright leaves no fit writing into a
+     * .tmp- folder that the next run is fitting again) */
+    const pid_t parent = getpid();
+    const pid_t pid = fork();
+    if (pid < 0)
+        return sq_error_set(err, SQ_ERR_IO, "batch", "cannot start the fit: %s", strerror(errno));
+    if (pid == 0) {
+        const int fd0 = open("/dev/null", O_RDONLY), fd1 = open("/dev/null", O_WRONLY),
+                  fd2 = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent || fd0 < 0 || fd1 < 0 || fd2 < 0 ||
+            dup2(fd0, 0) < 0 || dup2(fd1, 1) < 0 || dup2(fd2, 2) < 0)
+            _exit(127);
+        execve(prog, (char *const *)argv, environ);
+        static const char msg[] = "squama: cannot start the fit program\n";
+        const ssize_t w = write(2, msg, sizeof msg - 1);
+        (void)w;
+        _exit(127);
+    }
     int status;
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR)

@@ -169,6 +169,8 @@ PY
   pid=$!
   for _ in $(seq 600); do [ -e "$TMP/k/k1/done.json" ] && break; sleep 0.1; done
   kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+  for _ in $(seq 50); do pgrep -f -- "-o $TMP/k/.tmp-" >/dev/null || break; sleep 0.1; done
+  pgrep -f -- "-o $TMP/k/.tmp-" >/dev/null && fail "a row's fit outlived the batch killed"
   [ -s "$TMP/k/k1/done.json" ] || fail "the first row was not done before the kill"
   [ -e "$TMP/k/k8/done.json" ] && echo "note: every row was done before the kill; nothing was interrupted"
   run batch "$TMP/k.csv" -o "$TMP/k" "${FIT[@]}" --json --jobs 1 -j 1
