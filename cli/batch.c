@@ -1,4 +1,5 @@
 /* squama batch: one row fitted into its folder, read back, recorded; rows on local threads. */
+#define _DEFAULT_SOURCE /* syscall() */
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
@@ -11,6 +12,7 @@
 #include <string.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -246,7 +248,6 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
     int a = 0;
     argv[a++] = "squama";
     argv[a++] = "fit";
-    argv[a++] = job->photo;
     argv[a++] = "-o";
     argv[a++] = job->outdir;
     if (job->mask) {
@@ -287,6 +288,8 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
         argv[a++] = cats;
     }
     argv[a++] = "-q";
+    argv[a++] = "--"; /* a photo named -x.jpg is a photo */
+    argv[a++] = job->photo;
     argv[a] = NULL;
 
     const char *prog = getenv("SQUAMA_FIT_PROGRAM");
@@ -296,6 +299,7 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
      * thread that started it (a batch killed outright leaves no fit writing into a
      * .tmp- folder that the next run is fitting again) */
     const pid_t parent = getpid();
+    const long open_max = sysconf(_SC_OPEN_MAX), maxfd = open_max > 0 && open_max < 65536 ? open_max : 65536;
     const pid_t pid = fork();
     if (pid < 0)
         return sq_error_set(err, SQ_ERR_IO, "batch", "cannot start the fit: %s", strerror(errno));
@@ -305,6 +309,10 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
         if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent || fd0 < 0 || fd1 < 0 || fd2 < 0 ||
             dup2(fd0, 0) < 0 || dup2(fd1, 1) < 0 || dup2(fd2, 2) < 0)
             _exit(127);
+        /* none of the batch's other files (another row's log, an MPI socket) in the fit */
+        if (syscall(SYS_close_range, 3u, ~0u, 0u) != 0)
+            for (long fd = 3; fd < maxfd; fd++)
+                close((int)fd);
         execve(prog, (char *const *)argv, environ);
         static const char msg[] = "squama: cannot start the fit program\n";
         const ssize_t w = write(2, msg, sizeof msg - 1);
@@ -341,13 +349,15 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
     SqStatus st = SQ_OK;
     if (cli_pathf(tmp, sizeof tmp, "%s/.tmp-%s", b->outdir, row->id) != 0 ||
         cli_pathf(final, sizeof final, "%s/%s", b->outdir, row->id) != 0 ||
-        cli_pathf(log, sizeof log, "%s/.tmp-%s.log", b->outdir, row->id) != 0) {
+        cli_pathf(log, sizeof log, "%s/.tmp-%s/stderr.log", b->outdir, row->id) != 0) {
         out->status = BATCH_ERROR;
         snprintf(out->error, sizeof out->error, "the output folder's path is too long");
         return;
     }
     if (cli_remove_tree(tmp) != 0) /* a partial row of an interrupted run */
         st = sq_error_set(&err, SQ_ERR_IO, tmp, "cannot remove the partial output: %s", strerror(errno));
+    else if (cli_mkdirs(tmp) != 0) /* the fit's folder, its log in it */
+        st = sq_error_set(&err, SQ_ERR_IO, tmp, "cannot create the output folder: %s", strerror(errno));
     char photo_digest[BATCH_DIGEST], mask_digest[BATCH_DIGEST], line_digest[BATCH_DIGEST];
     file_digest(row->photo, photo_digest); /* of what is fitted */
     file_digest(row->mask, mask_digest);

@@ -240,6 +240,8 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
 {
     if (!img || !img->px || img->channels < 3 || !text)
         return sq_error_set(err, SQ_ERR_INVALID, "text", "no colour image to draw on");
+    if (!text[0])
+        return SQ_OK;
     try {
         // The glyphs' coverage is drawn into a buffer of their own that holds the whole
         // text, then blended into the image where the two overlap: OpenImageIO 2.4's
@@ -248,6 +250,8 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
         ROI box = ImageBufAlgo::text_size(text, px_size, "DejaVuSans");
         if (!box.defined())
             return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: no DejaVu Sans font found");
+        if (box.width() <= 0 || box.height() <= 0) // no glyphs ("": OpenImageIO gives an inverted box)
+            return SQ_OK;
         const int pad = 2, w = box.width() + 2 * pad, h = box.height() + 2 * pad;
         const int x0 = x + box.xbegin - pad, y0 = y + box.ybegin - pad; // the buffer's place in img
         if (x0 >= img->width || y0 >= img->height || x0 + w <= 0 || y0 + h <= 0)

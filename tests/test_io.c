@@ -355,6 +355,8 @@ static void text_drawn_and_clipped_at_the_edges(void **state)
 {
     (void)state;
     const float red[3] = {1, 0, 0};
+    /* inside; over the top edge; wholly above (what aborted); over the left, right and
+     * bottom edges; wholly outside */
     const int pos[][2] = {{10, 20}, {10, 4}, {10, -3}, {-6, 20}, {50, 20}, {10, 36}, {-40, -40}, {500, 500}};
     for (int ch = 3; ch <= 4; ch++)
         for (size_t k = 0; k < sizeof pos / sizeof pos[0]; k++) {
@@ -377,13 +379,15 @@ static void text_drawn_and_clipped_at_the_edges(void **state)
                 assert_true(box[0] >= x && box[2] < x + 30 && box[1] >= y - 12 && box[3] <= y + 3);
             } else if (k == 1 || k == 3 || k == 4) { /* over the top, left or right edge */
                 assert_true(n > 5);
-            } else if (k >= 6) { /* wholly outside */
+            } else if (k == 2 || k >= 6) { /* wholly outside */
                 assert_int_equal(n, 0);
             }
-            for (int yy = 0; yy < 32; yy++) /* only towards red, alpha untouched at 1 or raised */
+            for (int yy = 0; yy < 32; yy++) /* only towards red; alpha only raised */
                 for (int xx = 0; xx < 64; xx++) {
                     const float *p = sq_image_at(&img, xx, yy);
                     assert_true(p[0] >= 0.5f - 1e-6f && p[1] <= 0.5f + 1e-6f);
+                    if (ch == 4)
+                        assert_true(p[3] >= 0.5f - 1e-6f && p[3] <= 1.0f + 1e-6f);
                 }
             sq_image_free(&img);
         }
