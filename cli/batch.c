@@ -196,9 +196,8 @@ static SqStatus read_fit_json(const char *dir, RowFit *out, SqError *err)
                 *secs = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(se, "seconds"), "total");
     out->fitted = -1;
     if (cJSON_IsString(cat)) { /* a layered skin combines pattern types: the thesis' complex category (its Sec. 4.2.5) */
-        for (int k = 0; k < SQ_FIT_KINDS; k++)
-            if (strcmp(cat->valuestring, sq_fit_kind_name(k)) == 0)
-                out->fitted = k == SQ_FIT_LAYERED ? SQ_PATTERN_COMPLEX : k;
+        int k = sq_fit_kind_from_name(cat->valuestring);
+        out->fitted = k == SQ_FIT_LAYERED ? SQ_PATTERN_COMPLEX : k;
     }
     int ok = out->fitted >= 0 && cJSON_IsNumber(score) && cJSON_IsNumber(ev) && cJSON_IsNumber(secs);
     for (int k = 0; ok && k < SQ_OBJ_COUNT; k++) {
@@ -269,7 +268,7 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
         argv[a++] = evals;
     }
     snprintf(seed, sizeof seed, "%llu", (unsigned long long)fo->seed);
-    snprintf(threads, sizeof threads, "%d", fo->threads > 0 ? fo->threads : 1);
+    snprintf(threads, sizeof threads, "%d", fo->threads); /* the batch sets 1 or more */
     snprintf(size, sizeof size, "%d", job->size);
     snprintf(work, sizeof work, "%d", job->po.work_size);
     argv[a++] = "--seed";

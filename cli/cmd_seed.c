@@ -390,9 +390,7 @@ int cmd_seed(int argc, char **argv)
         switch (c) {
         case 'c':
             m = MODE_CATEGORY;
-            for (int k = 0; k < SQ_FIT_KINDS; k++)
-                if (strcmp(optarg, sq_fit_kind_name(k)) == 0)
-                    category = k;
+            category = sq_fit_kind_from_name(optarg);
             if (category < 0)
                 return cli_usage("seed",
                                  "--category is one of none, longitudinal, transversal, spots, other_simple, "

@@ -444,10 +444,7 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
                 fo->categories |= SQ_FIT_ALL_KINDS;
                 continue;
             }
-            int found = -1;
-            for (int k = 0; k < SQ_FIT_KINDS; k++)
-                if (strcmp(name, sq_fit_kind_name(k)) == 0)
-                    found = k;
+            int found = sq_fit_kind_from_name(name);
             if (found < 0)
                 return cli_usage(cmd,
                                  "--categories takes kinds among none, longitudinal, transversal, "

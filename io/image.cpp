@@ -250,7 +250,7 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
         ROI box = ImageBufAlgo::text_size(text, px_size, "DejaVuSans");
         if (!box.defined())
             return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: no DejaVu Sans font found");
-        if (box.width() <= 0 || box.height() <= 0) // no glyphs ("": OpenImageIO gives an inverted box)
+        if (box.width() <= 0 || box.height() <= 0) // an empty or inverted box: nothing to draw
             return SQ_OK;
         const int pad = 2, w = box.width() + 2 * pad, h = box.height() + 2 * pad;
         const int x0 = x + box.xbegin - pad, y0 = y + box.ybegin - pad; // the buffer's place in img

@@ -130,6 +130,14 @@ const char *sq_fit_kind_name(int kind)
     return kind == SQ_FIT_LAYERED ? "layered" : sq_pattern_type_name(kind);
 }
 
+int sq_fit_kind_from_name(const char *name)
+{
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        if (strcmp(name, sq_fit_kind_name(k)) == 0)
+            return k;
+    return -1;
+}
+
 void sq_fit_result_free(SqFitResult *r)
 {
     if (!r)

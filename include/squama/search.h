@@ -293,6 +293,9 @@ int sq_fit_kind_of(const SqParams *p);
 /* "none" ... "complex", "layered". */
 const char *sq_fit_kind_name(int kind);
 
+/* The kind named exactly `name` (as sq_fit_kind_name spells it), or -1. */
+int sq_fit_kind_from_name(const char *name);
+
 typedef enum SqFitMethod {
     SQ_FIT_SQUAMA = 0, /* the three stages above */
     SQ_FIT_RANDOM,     /* baselines: after the same screening, the best category's genome */
