@@ -75,6 +75,43 @@ extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *m
     }
 }
 
+extern "C" int sq__cv_grabcut_band(const float *rgb, int w, int h, const uint8_t *band, const uint8_t *core,
+                                   int reach, uint8_t *mask)
+{
+    try {
+        cv::Mat b(h, w, CV_8UC1, const_cast<uint8_t *>(band)), near;
+        cv::dilate(b, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * reach + 1, 2 * reach + 1)));
+        /* the part that matters: the band and its surround, and as much again round it
+         * for the backdrop's colours */
+        cv::Rect box = cv::boundingRect(near);
+        if (box.empty())
+            return -1;
+        box -= cv::Point(reach, reach);
+        box += cv::Size(2 * reach, 2 * reach);
+        box &= cv::Rect(0, 0, w, h);
+        cv::Mat f(h, w, CV_32FC3, const_cast<float *>(rgb)), img;
+        f(box).convertTo(img, CV_8UC3, 255.0);
+        cv::Mat m(box.size(), CV_8UC1), bgd, fgd;
+        for (int y = 0; y < box.height; y++)
+            for (int x = 0; x < box.width; x++) {
+                const size_t i = (size_t)(y + box.y) * w + (x + box.x);
+                m.at<uchar>(y, x) = core[i] ? cv::GC_FGD : band[i] ? cv::GC_PR_FGD : near.data[i] ? cv::GC_PR_BGD : cv::GC_BGD;
+            }
+        cv::setRNGSeed(GRABCUT_SEED);
+        cv::grabCut(img, m, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+        std::memset(mask, 0, (size_t)w * h);
+        for (int y = 0; y < box.height; y++)
+            for (int x = 0; x < box.width; x++) {
+                const size_t i = (size_t)(y + box.y) * w + (x + box.x);
+                const uchar v = m.at<uchar>(y, x);
+                mask[i] = band[i] && (v == cv::GC_FGD || v == cv::GC_PR_FGD) ? 255 : 0;
+            }
+        return 0;
+    } catch (...) {
+        return -1;
+    }
+}
+
 extern "C" int sq__cv_clean_mask(uint8_t *mask, int w, int h, int radius, double max_hole)
 {
     try {

@@ -20,6 +20,13 @@ int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask);
  * saliency): the most salient sixth probably the object, the least salient half not. */
 int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask);
 
+/* Which of a band is body, by GrabCut: the core certainly body, the rest of the band
+ * probably, `reach` pixels round the band probably not, everything further certainly
+ * not; run on the part of the image that holds the band and its surround. mask: 255
+ * where the band is found body, else 0. Returns 0, or -1 on failure (mask untouched). */
+int sq__cv_grabcut_band(const float *rgb, int w, int h, const uint8_t *band, const uint8_t *core, int reach,
+                        uint8_t *mask);
+
 /* Opening and closing with a disc of `radius`, the largest connected component kept,
  * its holes of at most max_hole pixels filled. Returns the number of components found
  * before keeping one (>= 0). */

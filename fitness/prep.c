@@ -970,6 +970,33 @@ static void line_mask(const Curve *curves, int ncurves, double r, int w, int h, 
     }
 }
 
+/* A body line's band is drawn by hand: wider than the body, or off its middle, it takes in
+ * the ground, a branch, the next coil. The band's body found by colour (GrabCut: the line's
+ * middle, LINE_CORE of the radius, certainly body, the band's rest probably, as far again
+ * round it probably not); kept unless it leaves less than LINE_KEEP of the band, where
+ * the colours did not tell body from backdrop and the band is taken as drawn. */
+static const double LINE_CORE = 0.4, LINE_KEEP = 0.4;
+
+static void band_body(const SqImage *photo, const Curve *curves, int ncurves, double r, uint8_t *band)
+{
+    const int w = photo->width, h = photo->height;
+    uint8_t *core = malloc((size_t)w * h), *found = malloc((size_t)w * h);
+    if (core && found) {
+        line_mask(curves, ncurves, LINE_CORE * r, w, h, core);
+        if (sq__cv_grabcut_band(photo->px, w, h, band, core, (int)ceil(r), found) == 0) {
+            size_t n = 0, kept = 0;
+            for (size_t i = 0; i < (size_t)w * h; i++) {
+                n += band[i] != 0;
+                kept += found[i] != 0;
+            }
+            if (kept >= LINE_KEEP * (double)n)
+                memcpy(band, found, (size_t)w * h);
+        }
+    }
+    free(core);
+    free(found);
+}
+
 /* The photo's own blur, from the body's outline: across each edge (both sides of the
  * clean stretches, every other pixel along them) the linear luminance rises from the
  * backdrop's to the body's; where both sides are flat and differ enough, the distance
@@ -1404,6 +1431,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                      "belong to the same photo?", 100.0 * kept / (double)(band ? band : 1));
         } else {
             out->mask_source = SQ_MASK_LINE;
+            band_body(&out->photo, curves, ncurves, body.r, body.m8);
         }
     }
     if (body.m8) {
