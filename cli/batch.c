@@ -97,6 +97,8 @@ static SqStatus write_done(const char *dir, const Batch *b, const CliManifestRow
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(r->obj[k]));
         cJSON_AddNumberToObject(root, "evaluations", (double)r->evals);
+        if (r->strip_widths > 0)
+            cJSON_AddNumberToObject(root, "strip_body_widths", round(r->strip_widths * 100) / 100);
     } else {
         cJSON_AddStringToObject(root, "error", r->error);
     }
@@ -175,6 +177,7 @@ typedef struct RowFit {
     int fitted; /* SqPatternType */
     double score, obj[SQ_OBJ_COUNT], seconds;
     long evals;
+    double strip_widths;
 } RowFit;
 
 /* The outcome of a fit from its DIR/fit.json. */
@@ -210,6 +213,12 @@ static SqStatus read_fit_json(const char *dir, RowFit *out, SqError *err)
         out->score = score->valuedouble;
         out->evals = (long)ev->valuedouble;
         out->seconds = secs->valuedouble;
+        const cJSON *in = cJSON_GetObjectItemCaseSensitive(root, "inputs"),
+                    *slen = cJSON_GetObjectItemCaseSensitive(in, "strip_length_px"),
+                    *wid = cJSON_GetObjectItemCaseSensitive(in, "body_width_px");
+        out->strip_widths = cJSON_IsNumber(slen) && cJSON_IsNumber(wid) && wid->valuedouble > 0
+                                ? slen->valuedouble / wid->valuedouble
+                                : 0;
     }
     cJSON_Delete(root);
     return ok ? SQ_OK : sq_error_set(err, SQ_ERR_PARSE, path, "the fit's record lacks its category, score or objectives");
@@ -395,6 +404,7 @@ void batch_fit_row(const Batch *b, int i, BatchResult *out)
         memcpy(out->obj, fit.obj, sizeof out->obj);
         out->evals = fit.evals;
         out->seconds = fit.seconds;
+        out->strip_widths = fit.strip_widths;
     } else {
         /* an error row keeps only its done.json */
         out->status = BATCH_ERROR;

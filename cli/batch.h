@@ -21,6 +21,7 @@ typedef struct BatchResult {
     double score, obj[SQ_OBJ_COUNT];
     double seconds;            /* the fit's wall time */
     long evals;
+    double strip_widths;       /* the photo's strip in body widths (0: not known) */
     char error[1024];          /* why the row failed */
 } BatchResult;
 

@@ -34,9 +34,10 @@ static const char *cat_name(int c)
 
 /* catalogue.csv's columns: these, the objectives (named as squama score names them), and
  * these. */
-enum { NLEAD = 5, NTRAIL = 6 };
+enum { NLEAD = 5, NTRAIL = 7 };
 static const char *const lead_head[NLEAD] = {"id", "species", "expected", "fitted", "score"};
-static const char *const trail_head[NTRAIL] = {"preset", "status", "error", "line", "seconds", "evaluations"};
+static const char *const trail_head[NTRAIL] = {"preset", "status", "error", "line", "seconds", "evaluations",
+                                                   "strip_widths"};
 
 /* Appends one line of catalogue.csv; returns nonzero when out of memory. */
 static int csv_line(char **buf, size_t *len, size_t *cap, const char *const *lead, const char *const *obj,
@@ -65,7 +66,8 @@ static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const 
         if (r->status == BATCH_PENDING)
             continue;
         int ok = r->status == BATCH_OK;
-        char score[64], obj[SQ_OBJ_COUNT][64], line[32], seconds[64], evals[32], preset[CLI_ID_MAX + 16] = "";
+        char score[64], obj[SQ_OBJ_COUNT][64], line[32], seconds[64], evals[32], widths[32] = "",
+            preset[CLI_ID_MAX + 16] = "";
         const char *objp[SQ_OBJ_COUNT];
         snprintf(score, sizeof score, "%.6g", r->score);
         for (int k = 0; k < SQ_OBJ_COUNT; k++) {
@@ -75,12 +77,14 @@ static SqStatus write_csv(const char *outdir, const CliManifestRow *rows, const 
         snprintf(line, sizeof line, "%d", rows[i].line);
         snprintf(seconds, sizeof seconds, "%.1f", isfinite(r->seconds) ? r->seconds : 0);
         snprintf(evals, sizeof evals, "%ld", r->evals);
+        if (ok && r->strip_widths > 0)
+            snprintf(widths, sizeof widths, "%.2f", r->strip_widths);
         if (ok)
             snprintf(preset, sizeof preset, "%s/best.json", rows[i].id);
         const char *lead[NLEAD] = {rows[i].id, rows[i].species, cat_name(rows[i].expected),
                                    ok ? cat_name(r->fitted) : "", ok ? score : ""};
         const char *trail[NTRAIL] = {preset, ok ? "ok" : "error", ok ? "" : r->error, line, ok ? seconds : "",
-                                     ok ? evals : ""};
+                                     ok ? evals : "", widths};
         oom |= csv_line(&buf, &len, &cap, lead, objp, trail);
     }
     char path[4096];
@@ -215,6 +219,13 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
             cli_buf_put(&b, "<td>");
             if (rows[i].expected >= 0 && rows[i].expected != r->fitted)
                 differs_html(&b, outdir, id, rows[i].expected);
+            if (r->strip_widths > 0 && r->strip_widths < CLI_SHORT_STRIP) {
+                cli_buf_put(&b, "%s<b>short strip</b>: %.1f body widths of the body, too few to see a pattern "
+                                "repeat; give the row a body line (see <a href='",
+                            rows[i].expected >= 0 && rows[i].expected != r->fitted ? "<br>" : "", r->strip_widths);
+                cli_buf_html(&b, id);
+                cli_buf_put(&b, "/line.png'>the line followed</a>) or a mask");
+            }
             cli_buf_put(&b, "</td></tr>\n");
         } else {
             cli_buf_put(&b, "<td></td><td colspan='4'></td><td>");

@@ -62,6 +62,8 @@ int batch_parse_done(const char *text, size_t len, BatchDone *d)
         d->r.fitted = cat ? cli_manifest_category(cat) : -1;
         d->r.score = json_num(root, "score");
         d->r.evals = (long)fmax(0, fmin(1e15, json_num(root, "evaluations")));
+        const double sw = json_num(root, "strip_body_widths"); /* absent in older rows */
+        d->r.strip_widths = isfinite(sw) && sw > 0 && sw < 1e6 ? sw : 0;
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             d->r.obj[k] = json_num(o, sq_fit_objective_name(k));
         ok = d->r.fitted >= 0 && cJSON_IsObject(o);

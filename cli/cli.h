@@ -61,6 +61,12 @@ void cli_photo_free(CliPhoto *in);
 /* sq_fit_prepare with what in holds (o NULL: the defaults). */
 SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *prep, SqError *err);
 
+/* A strip shorter than CLI_SHORT_STRIP body widths shows too little of the skin to see a
+ * pattern repeat (a band or a blotch every body width or two). For such a prep: 1 and
+ * the warning, saying what to do, in buf (n bytes); else 0. */
+#define CLI_SHORT_STRIP 3.0
+int cli_short_strip(const SqPrepared *prep, char *buf, size_t n);
+
 /* The centre line prep followed, in dir: line.json (a point every half body width, to
  * correct and give back with --line), unless a line was given (the user's own file, never
  * overwritten), and line.png: the prepared photo with a grid in the photo's own pixels

@@ -27,9 +27,10 @@ static const char help[] =
     "Fits every row of MANIFEST as 'squama fit' would, each into DIR/<id>/ (best.json, fit.json,\n"
     "front/, the maps, preview.png, report.html, ... and thumbnails), and keeps a catalogue of\n"
     "them: DIR/catalogue.csv (id, species, expected, fitted, score, the five objectives, preset,\n"
-    "status, error, line, seconds, evaluations) and DIR/index.html (thumbnails: photo, mask,\n"
-    "strips, texture, preview; filters by category, and the confusion matrix of expected against\n"
-    "fitted category with per-category and overall accuracy), both rewritten after every row.\n"
+    "status, error, line, seconds, evaluations, strip_widths) and DIR/index.html (thumbnails:\n"
+    "photo, mask, strips, texture, preview; filters by category, rows fitted on a strip under 3\n"
+    "body widths marked, and the confusion matrix of expected against fitted category with\n"
+    "per-category and overall accuracy), both rewritten after every row.\n"
     "\n"
     "MANIFEST is CSV (RFC 4180) with a header naming its columns, in any order and any case:\n"
     "  id        the row's name and folder: letters, digits, '_', '-', '.' (required)\n"
@@ -133,14 +134,21 @@ static int queue_next(void *ctx)
     return q->next < q->n ? q->rows[q->next++] : -1;
 }
 
-/* The closing lines: counts and the confusion matrix (text, or a JSON object). */
+static int short_strip(const BatchResult *r)
+{
+    return r->status == BATCH_OK && r->strip_widths > 0 && r->strip_widths < CLI_SHORT_STRIP;
+}
+
+/* The closing lines: counts, the confusion matrix (text, or a JSON object) and the rows
+ * fitted on short strips. */
 static void summary(const Batch *b, double seconds, int resumed)
 {
-    int ok = 0, failed = 0, pending = 0;
+    int ok = 0, failed = 0, pending = 0, nshort = 0;
     for (int i = 0; i < b->nrows; i++) {
         ok += b->results[i].status == BATCH_OK;
         failed += b->results[i].status == BATCH_ERROR;
         pending += b->results[i].status == BATCH_PENDING;
+        nshort += short_strip(&b->results[i]);
     }
     BatchConfusion c;
     batch_confusion(b->rows, b->results, b->nrows, &c);
@@ -155,6 +163,7 @@ static void summary(const Batch *b, double seconds, int resumed)
         cJSON_AddNumberToObject(o, "resumed", resumed);
         cJSON_AddNumberToObject(o, "seconds", round(seconds * 10) / 10);
         cJSON_AddNumberToObject(o, "rows_per_minute", seconds > 0 ? round(6e4 * b->fitted_now / seconds) / 1e3 : 0);
+        cJSON_AddNumberToObject(o, "short_strips", nshort);
         cJSON_AddNumberToObject(o, "correct", c.correct);
         cJSON_AddNumberToObject(o, "with_expected", c.total);
         snprintf(path, sizeof path, "%s/catalogue.csv", b->outdir);
@@ -190,6 +199,15 @@ static void summary(const Batch *b, double seconds, int resumed)
                 printf("  -\n");
         }
         printf("overall: %d of %d right (%.0f%%)\n", c.correct, c.total, 100.0 * c.correct / c.total);
+    }
+    if (nshort > 0) {
+        printf("%d row%s fitted on a strip of under %.0f body widths, too short to see a pattern repeat (", nshort,
+               nshort == 1 ? "" : "s", CLI_SHORT_STRIP);
+        for (int i = 0, k = 0; i < b->nrows; i++)
+            if (short_strip(&b->results[i]) && k++ < 3)
+                printf("%s%s", k > 1 ? ", " : "", b->rows[i].id);
+        printf("%s): see their line.png, and give them a body line (the manifest's body_line column) or a mask\n",
+               nshort > 3 ? ", ..." : "");
     }
     printf("catalogue: %s/catalogue.csv, %s/index.html\n", b->outdir, b->outdir);
 }

@@ -231,6 +231,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddStringToObject(in, "mask_source", sq_mask_source_name(prep->mask_source));
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
+    cJSON_AddNumberToObject(in, "strip_body_widths", round(prep->length / prep->body_width * 100) / 100);
+    char warning[512];
+    const int short_strip = cli_short_strip(prep, warning, sizeof warning);
+    if (short_strip)
+        cJSON_AddStringToObject(in, "warning", warning);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
     cJSON_AddNumberToObject(in, "strip_step_px", round(prep->step * 1e3) / 1e3);
     cJSON_AddNumberToObject(in, "edge_blur_px", round(prep->edge_blur * 1e3) / 1e3);
@@ -385,7 +390,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     free(text);
     if (st != SQ_OK)
         return st;
-    return cli_fit_report(outdir, photo_path, r, clock->prepare, clock->search, total, err);
+    return cli_fit_report(outdir, photo_path, r, short_strip ? warning : NULL, clock->prepare, clock->search, total,
+                          err);
 }
 
 void cli_fit_job_init(CliFitJob *job)
@@ -489,6 +495,9 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     if (st == SQ_OK)
         st = sq_fit_photo_target(&prep, &target, err);
     clock.prepare = cli_now_s() - clock.t0;
+    char warning[512];
+    if (st == SQ_OK && !job->quiet && cli_short_strip(&prep, warning, sizeof warning))
+        fprintf(stderr, "squama: warning: %s\n", warning);
     if (fo.budget > 0) { /* the budget is the whole command's */
         fo.budget = cli_search_budget(fo.budget, clock.prepare, job->size);
         if (st == SQ_OK && !job->quiet && fo.budget < 0.5 * clock.budget)

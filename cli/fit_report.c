@@ -101,7 +101,7 @@ static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
     cli_buf_put(b, "</svg>\n");
 }
 
-SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
+SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r, const char *warning,
                         double prepare_s, double search_s, double total_s, SqError *err)
 {
     CliBuf b = {0};
@@ -120,6 +120,11 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
             "%ld evaluations in %.1f s of search (%.0f per second), %.1f s in all%s.</p>\n",
         sq_fit_kind_name(sq_fit_kind_of(&r->best.params)), r->best.score, r->best.view_scale, r->evals,
         search_s, r->evals / fmax(search_s, 1e-9), total_s, r->stopped ? "; <b>stopped early</b>" : "");
+    if (warning) {
+        cli_buf_put(&b, "<p style='background:#fed;padding:6px'><b>Warning:</b> ");
+        cli_buf_html(&b, warning);
+        cli_buf_put(&b, ".</p>\n");
+    }
     cli_buf_put(&b, "<div>\n");
     static const char *const pics[][2] = {
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},

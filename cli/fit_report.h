@@ -4,8 +4,9 @@
 
 #include "squama/search.h"
 
-/* Writes DIR/report.html (atomic) beside the images squama fit wrote there. */
-SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r,
+/* Writes DIR/report.html (atomic) beside the images squama fit wrote there; warning (or
+ * NULL) says what about the photo's strip the reader should doubt. */
+SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r, const char *warning,
                         double prepare_s, double search_s, double total_s, SqError *err);
 
 #endif

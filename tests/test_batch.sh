@@ -99,7 +99,7 @@ rows = list(csv.DictReader(open(d + "/catalogue.csv", newline="")))
 assert [r["id"] for r in rows] == ["bands", "stripes", "gone", "text", "badmask", "stripes", "", "../up", "odd"], [r["id"] for r in rows]
 by = {(r["id"], r["line"]): r for r in rows}
 head = ["id", "species", "expected", "fitted", "score", "palette", "histogram", "shape", "along", "across",
-        "preset", "status", "error", "line", "seconds", "evaluations"]
+        "preset", "status", "error", "line", "seconds", "evaluations", "strip_widths"]
 assert list(rows[0]) == head, list(rows[0])
 b = by["bands", "2"]
 assert b["species"] == "Banded, synthetic" and b["expected"] == "transversal" and b["preset"] == "bands/best.json"
@@ -166,17 +166,33 @@ PY
   # the line's error; the line's contents count as the mask's do
   run prepare "$TMP/photos/stripes.jpg" -o "$TMP/lp" --work-size 256; check "prepare for a body line" 0
   printf '{"format": "squama-body-line/1", "width": 20, "stretches": [[[5, 5]]]}\n' >"$TMP/photos/short.json"
-  printf 'id,photo,body_line\nlined,photos/stripes.jpg,lp/line.json\nshort,photos/stripes.jpg,photos/short.json\n' >"$TMP/l.csv"
+  # a row along two body widths of the body: fitted, and listed as fitted on a short strip
+  python3 - "$TMP/lp/line.json" "$TMP/photos/brief.json" <<'PY'
+import json, sys
+l = json.load(open(sys.argv[1]))
+l["stretches"] = [l["stretches"][0][:5]]
+json.dump(l, open(sys.argv[2], "w"))
+PY
+  printf 'id,photo,body_line\nlined,photos/stripes.jpg,lp/line.json\nshort,photos/stripes.jpg,photos/short.json\nbrief,photos/stripes.jpg,photos/brief.json\n' >"$TMP/l.csv"
   run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
-  check "batch with body lines" 0 out '"ok":1' out '"errors":1'
+  check "batch with body lines" 0 out '"ok":2' out '"errors":1' out '"short_strips":1'
   grep -q '"mask_source": "line"' "$TMP/bl/lined/fit.json" || fail "the lined row was not followed along its line"
   grep '"id":"short"' "$out" | grep -q 'stretches\[0\]' || fail "the short line's error is not listed"
+  python3 - "$TMP/bl" <<'PY' || fail "the short strip is not listed"
+import csv, sys
+d = sys.argv[1]
+w = {r["id"]: r["strip_widths"] for r in csv.DictReader(open(d + "/catalogue.csv", newline=""))}
+assert float(w["lined"]) >= 3 and 1 <= float(w["brief"]) < 3 and w["short"] == "", w
+html = open(d + "/index.html").read()
+assert html.count("<b>short strip</b>") == 1 and "href='brief/line.png'" in html, html
+PY
   grep -Eq '"line_digest": ?"[0-9a-f]{16}"' "$TMP/bl/lined/done.json" || fail "done.json has no line digest"
   run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
-  check "batch with body lines resumed" 0 out '"resumed":1'
+  check "batch with body lines resumed" 0 out '"resumed":2' out '"short_strips":1'
   sed -i 's/"width": [0-9.]*/"width": 18/' "$TMP/lp/line.json"
   run batch "$TMP/l.csv" -o "$TMP/bl" "${FIT[@]}" --json
-  check "a line changed in place is fitted again" 0 out '"resumed":0'
+  check "a line changed in place is fitted again" 0 out '"resumed":1'
+  grep '"id":"lined"' "$out" | grep -q '"resumed":false' || fail "the changed line's row was not fitted again"
 
   # a real crash: the batch killed (SIGKILL) once its first row is done; that row is read
   # back, the one it was fitting is fitted again, nothing half-written is listed (eight

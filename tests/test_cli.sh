@@ -169,6 +169,21 @@ run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepl"
 check "prepare --line" 0 out "line mask, body"
 [ -e "$TMP/prepl/line.json" ] && { echo "FAIL: prepare --line wrote line.json"; fails=$((fails + 1)); }
 [ -s "$TMP/prepl/line.png" ] || { echo "FAIL: prepare --line did not draw line.png"; fails=$((fails + 1)); }
+grep -q "warning" "$TMP/err" && { echo "FAIL: prepare warned of a whole body's strip"; cat "$TMP/err"; fails=$((fails + 1)); }
+# a line along two body widths of the body (line.json: a point every half width): warned of
+python3 - "$TMP/prep/line.json" "$TMP/short.json" <<'PY'
+import json, sys
+l = json.load(open(sys.argv[1]))
+l["stretches"] = [l["stretches"][0][:5]]
+json.dump(l, open(sys.argv[2], "w"))
+PY
+run prepare "$TMP/p.jpg" --line "$TMP/short.json" -o "$TMP/preps"
+check "prepare --line along a short stretch" 0 err "squama: warning: the body line covers only" \
+  err "body widths of clean body (3 at least to see a pattern repeat)"
+run fit "$TMP/p.jpg" --line "$TMP/short.json" -o "$TMP/fs" --evals 100 --size 64 -j 2 --categories none,spots
+check "fit along a short stretch" 0 err "squama: warning: the body line covers only"
+grep -q '"warning": "the body line covers only' "$TMP/fs/fit.json" || { echo "FAIL: fit.json lacks the short strip's warning"; fails=$((fails + 1)); }
+grep -q "<b>Warning:</b> the body line covers only" "$TMP/fs/report.html" || { echo "FAIL: report.html lacks the warning"; fails=$((fails + 1)); }
 printf '{"format": "squama-body-line/1", "width": 30,\n "stretches": [[[10, 10], [9000, 10]]]}\n' >"$TMP/far.json"
 run prepare "$TMP/p.jpg" --line "$TMP/far.json" -o "$TMP/prepf"
 check "prepare --line outside" 1 err "stretches[0][1] (9000.0, 10.0) lies outside the 320x240 photo (body line)"
