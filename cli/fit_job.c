@@ -290,6 +290,12 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         cJSON_AddItemToObject(ar, "view_scale", sq__json_exact_number(r->read_view_scale));
         cJSON_AddItemToObject(ar, "correlation", sq__json_exact_number(r->read_corr));
     }
+    if (r->bands_read_corr != 0) {
+        cJSON *br = cJSON_AddObjectToObject(root, "bands_read");
+        cJSON_AddItemToObject(br, "view_scale", sq__json_exact_number(r->bands_read_view_scale));
+        cJSON_AddItemToObject(br, "correlation", sq__json_exact_number(r->bands_read_corr));
+        cJSON_AddItemToObject(br, "explained", sq__json_exact_number(r->bands_read_explained));
+    }
     if (r->spots_read_across > 0) {
         cJSON *sr = cJSON_AddObjectToObject(root, "spots_read");
         cJSON_AddNumberToObject(sr, "used", r->spots_read);

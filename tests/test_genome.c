@@ -388,6 +388,143 @@ static void draws_are_plausible(void **state)
     assert_int_equal(scale_default, 0);                       /* the pattern's own genes: always drawn */
 }
 
+/* The rows' mean lightness of a strip (n rows). */
+static void row_lightness(const SqImage *s, double *out)
+{
+    for (int y = 0; y < s->height; y++) {
+        double t = 0;
+        for (int x = 0; x < s->width; x++) {
+            float lab[3];
+            sq_fit_srgb_to_lab(s->px + ((size_t)y * s->width + x) * s->channels, lab);
+            t += lab[0];
+        }
+        out[y] = t / s->width;
+    }
+}
+
+/* The best correlation of two row profiles (n rows) over shifts along of up to n / 2. */
+static double best_shifted_corr(const double *a, const double *b, int n)
+{
+    double best = -1;
+    for (int d = 0; d < n / 2; d++) {
+        double ma = 0, mb = 0, sab = 0, saa = 0, sbb = 0;
+        const int m = n - d;
+        for (int y = 0; y < m; y++) {
+            ma += a[y];
+            mb += b[y + d];
+        }
+        ma /= m;
+        mb /= m;
+        for (int y = 0; y < m; y++) {
+            sab += (a[y] - ma) * (b[y + d] - mb);
+            saa += (a[y] - ma) * (a[y] - ma);
+            sbb += (b[y + d] - mb) * (b[y + d] - mb);
+        }
+        best = fmax(best, sab / sqrt(saa * sbb + 1e-12));
+    }
+    return best;
+}
+
+/* Bands of the thesis' Tables 4.1 and 4.2 (four plain bands; a coral snake's triads), seen
+ * in a strip at several view scales, are read back: the view scale within 3% (a tile
+ * shorter than the fit's shortest view holding more repeats), and the reading's bands,
+ * rendered, the same strip as the truth's (their rows' lightness correlated 0.95 or better
+ * at the best shift); a flat strip, a striped one and no strip give no repeat. */
+static void bands_read_off_their_strip(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *preset;
+        double view;
+    } cases[] = {{"table_4_1_transversal", 0.6}, {"table_4_1_transversal", 1.3}, {"table_4_2_micrurus_altirostris", 0.3},
+                 {"table_4_2_micrurus_altirostris", 0.8}, {"table_4_2_micrurus_altirostris", 1.6}};
+    SqError err;
+    char rel[256], path[1024];
+    enum { ROWS = 700 };
+    SqImage strip = {0}, again = {0};
+    double a[ROWS], b[ROWS];
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        SqParams p;
+        snprintf(rel, sizeof rel, "presets/thesis/%s.json", cases[c].preset);
+        assert_int_equal(sq_preset_load(src_path(path, sizeof path, rel), &p, NULL, &err), SQ_OK);
+        SqGenOptions go = sq_gen_options_default(256);
+        SqTextures maps = {0};
+        assert_int_equal(sq_gen_render_into(&p, &go, &maps, &err), SQ_OK);
+        sq_image_free(&strip);
+        assert_int_equal(sq_fit_candidate_strip(&maps.basecolor, NULL, NULL, NULL, cases[c].view, 0.5, ROWS, &strip, &err),
+                         SQ_OK);
+        sq_gen_textures_free(&maps);
+        SqBandsReading rd[2];
+        const int n = sq_fit_read_bands(&strip, NULL, rd, 2);
+        assert_true(n >= 1 && n <= 2);
+        row_lightness(&strip, a);
+        double best = -1;
+        for (int i = 0; i < n; i++) {
+            /* the reading as a preset */
+            SqParams q = p;
+            for (int k = 0; k < 4; k++) {
+                q.Transversal_BeginEnd[k][0] = q.Transversal_BeginEnd[k][1] = 1;
+                if (k < rd[i].nbands) {
+                    memcpy(q.Transversal_BeginEnd[k], rd[i].begin_end[k], sizeof q.Transversal_BeginEnd[k]);
+                    for (int j = 0; j < 3; j++)
+                        q.Transversal_Color[k][j] = rd[i].colour[k][j];
+                    q.Transversal_Color[k][3] = 1;
+                }
+            }
+            for (int j = 0; j < 3; j++)
+                q.Background_Color[j] = rd[i].skin[j];
+            assert_int_equal(sq_gen_render_into(&q, &go, &maps, &err), SQ_OK);
+            sq_image_free(&again);
+            assert_int_equal(
+                sq_fit_candidate_strip(&maps.basecolor, NULL, NULL, NULL, rd[i].view_scale, 0.5, ROWS, &again, &err),
+                SQ_OK);
+            sq_gen_textures_free(&maps);
+            row_lightness(&again, b);
+            const double corr = best_shifted_corr(a, b, ROWS);
+            printf("  %s at view %.2f: %d colours, %d band%s, %d repeat%s a tile at view %.3f (corr %.2f); "
+                   "rendered, %.3f like the truth\n",
+                   cases[c].preset, cases[c].view, rd[i].colours, rd[i].nbands, rd[i].nbands == 1 ? "" : "s",
+                   rd[i].repeats, rd[i].repeats == 1 ? "" : "s", rd[i].view_scale, rd[i].corr, corr);
+            assert_true(fabs(rd[i].view_scale / rd[i].repeats / cases[c].view - 1) < 0.03 ||
+                        rd[i].view_scale < 0.25 + 1e-9);
+            assert_true(rd[i].explained > 0.95); /* every row one colour */
+            best = fmax(best, corr);
+        }
+        assert_true(best > 0.95);
+    }
+    /* spots in a lattice (its rows unshifted) repeat along the body too, their rows of two
+     * colours */
+    SqParams p;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/table_4_4_spots.json"), &p, NULL, &err),
+                     SQ_OK);
+    p.Spots_Offset = 0;
+    p.Spots_PositionRandom[0] = p.Spots_PositionRandom[1] = 0;
+    SqGenOptions go = sq_gen_options_default(256);
+    SqTextures maps = {0};
+    assert_int_equal(sq_gen_render_into(&p, &go, &maps, &err), SQ_OK);
+    sq_image_free(&strip);
+    /* at a view scale whose rows of spots are far enough apart for a tile to hold them
+     * (the generator's three bands a tile) */
+    assert_int_equal(sq_fit_candidate_strip(&maps.basecolor, NULL, NULL, NULL, 3.0, 0.5, ROWS, &strip, &err), SQ_OK);
+    sq_gen_textures_free(&maps);
+    SqBandsReading rd[2];
+    const int ns = sq_fit_read_bands(&strip, NULL, rd, 2);
+    printf("  spots: %d readings, repeat %.2f, %.2f of the variance between rows\n", ns, ns ? rd[0].corr : 0,
+           ns ? rd[0].explained : 0);
+    assert_true(ns >= 1 && rd[0].corr > 0.5 && rd[0].explained < 0.5);
+    assert_int_equal(sq_fit_read_bands(NULL, NULL, rd, 2), 0);
+    for (size_t k = 0; k < (size_t)strip.width * strip.height * 3; k++)
+        strip.px[k] = 0.4f;
+    assert_int_equal(sq_fit_read_bands(&strip, NULL, rd, 2), 0);
+    for (int y = 0; y < strip.height; y++) /* stripes along: every row the same */
+        for (int x = 0; x < strip.width; x++)
+            for (int j = 0; j < 3; j++)
+                strip.px[((size_t)y * strip.width + x) * 3 + j] = x % 16 < 6 ? 0.9f : 0.1f;
+    assert_int_equal(sq_fit_read_bands(&strip, NULL, rd, 2), 0);
+    sq_image_free(&strip);
+    sq_image_free(&again);
+}
+
 /* Spot lattices of the thesis' Table 4.4 (its spots moved about by 0 to 0.2 of a cell),
  * seen in a strip, are read back: the count round the body exactly, the view scale from
  * the rows' spacing within 8%, best first, not at a multiple of the spacing, the skin's and
@@ -523,6 +660,7 @@ int main(void)
         cmocka_unit_test(draws_are_plausible),
         cmocka_unit_test(automata_read_off_their_strip),
         cmocka_unit_test(spot_lattices_read_off_their_strip),
+        cmocka_unit_test(bands_read_off_their_strip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -219,6 +219,32 @@ typedef struct SqSpotsReading {
  * many (0: bad arguments, a flat strip, or out of memory). Deterministic; under 0.15 s. */
 int sq_fit_read_spots(const SqImage *strip, const SqImage *valid, SqSpotsReading *out, int max);
 
+/* Transversal bands read off a photo's strip (sq_fit_read_bands): one tile's bands, as the
+ * thesis' Transversal_BeginEnd and Transversal_Color give them. */
+enum { SQ_BANDS_MAX = 3 }; /* the bands a tile the fit searches */
+typedef struct SqBandsReading {
+    double period;     /* strip rows between repeats of the bands */
+    int repeats;       /* repeats a tile (more than one when one would be a tile shorter
+                        * than the fit's shortest view) */
+    double view_scale; /* of a tile of `repeats` repeats */
+    double corr;       /* the rows' colours' autocorrelation at the period (-1 to 1) */
+    double explained;  /* the share of the strip's colour variance between its rows (bands:
+                        * near 1; spots and automata vary along the rows as well) */
+    int colours;       /* the colours the repeat was split into (2 or 3), skin included */
+    int nbands;        /* 1 to SQ_BANDS_MAX, in drawing order (a later band over an earlier) */
+    double begin_end[SQ_BANDS_MAX][2]; /* shares of the tile along (end < begin: the band wraps) */
+    double colour[SQ_BANDS_MAX][3];    /* sRGB */
+    double skin[3];    /* sRGB: the commonest colour, between the bands */
+} SqBandsReading;
+
+/* Reads the rows' mean colours' repeat along the strip (valid: where the body is, or NULL):
+ * the shortest lag whose autocorrelation peaks within 15% of the best, two repeats in the
+ * strip at least; the rows folded at it into one repeat's profile, split into two and
+ * into three colours (k-means), each a reading when its bands fit a tile. Returns how many
+ * (up to max; 0: bad arguments, too few valid rows, no repeat, or out of memory).
+ * Deterministic. */
+int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading *out, int max);
+
 /* Tournament selection (size k, 5 in Hewgill & Ross) among n individuals ranked by NSGA-II:
  * the lowest rank wins, ties go to the larger crowding distance. */
 int sq_gp_tournament(uint64_t *rng, int n, int k, const int *rank, const double *crowd);
@@ -240,7 +266,8 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     contrast, the two warps) and Has_Outline are each at their default (none) half the
  *     time (search/draw.c); automata and spot lattices read off the photo's strip
  *     (sq_fit_read_automata, sq_fit_read_spots) start more, at the view scale read
- *     with them, when the best reading is strong (spots in the colours read with them);
+ *     with them, when the best reading is strong (spots in the colours read with them;
+ *     bands are read, sq_fit_read_bands, and only recorded);
  *  2. evolve: every kind as a niche, CMA-ES moving each niche's continuous and
  *     discrete genes plus the view scale (started from the niche's best screened
  *     candidate; a spots niche starts from a lattice read when there is one, and
@@ -403,6 +430,10 @@ typedef struct SqFitResult {
     int spots_read_across;   /* the best lattice's spots round the body (0: none read) */
     double spots_read_view_scale, spots_read_score; /* its view scale and score */
     int spots_held;          /* 1: the spots niche searched a lattice read (started from it) */
+    double bands_read_view_scale, bands_read_corr, bands_read_explained; /* bands read off the
+                              * photo's strip (sq_fit_read_bands; none start a candidate): the
+                              * best reading's view scale, repeat and share of the colours'
+                              * variance between rows (corr 0: nothing read) */
     int layer_searched;      /* 1: a layer was searched over the champion when it is
                                 stripes, bands or spots, or over the best of those finalists
                                 when it is an automaton (by default, or with the layered kind

@@ -1,0 +1,301 @@
+/* Transversal bands read off a photo's strip. Bands across the body (the thesis' §4.2.2)
+ * make every row of the strip one colour, and the rows' colours repeat along the body: the
+ * autocorrelation of the rows' mean CIELAB colour peaks at the repeat (the shortest lag
+ * that scores near the best, so not a multiple of it). Folded at that period, the rows'
+ * colours give one repeat's profile, split into two or three colours by k-means: the
+ * commonest is the skin, each run of the others a band, a run of one colour holding a run
+ * of the other a band with a band drawn over it (a coral snake's black-yellow-black
+ * triad). A tile holds one repeat, or as many as its bands allow (the generator draws
+ * three bands a tile) when one would be shorter than the shortest tile the fit views.
+ * Written here rather than taken from a library: it is a fold and a small k-means over a
+ * few dozen bins, on the strip's own conventions (rows, view scale, valid mask). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "squama/fitness.h"
+#include "squama/search.h"
+
+enum {
+    W = SQ_FIT_STRIP_W,
+    ROWS_PER_TILE = 192, /* strip rows a tile at view scale 1 (the strip's 64 columns span a
+                            third of the way round) */
+    MIN_VALID = W / 8,   /* valid pixels a row needs to count */
+    LAG_MIN = 6,         /* the shortest repeat read, rows */
+    KMEANS_ITERS = 20
+};
+static const double VIEW_MIN = 0.25, VIEW_MAX = 8; /* the fit's view scales */
+static const double NEAR = 0.85; /* a repeat scoring this share of the best, or more, is read
+                                    when shorter */
+
+/* k-means of the profile's nb bins (Lab, 3 each) into k colours, started from the bins
+ * of lightest, darkest and middle lightness; class[] and centre[] filled. */
+static void kmeans(const double (*prof)[3], int nb, int k, int *cls, double (*centre)[3])
+{
+    int lo = 0, hi = 0;
+    for (int b = 1; b < nb; b++) {
+        lo = prof[b][0] < prof[lo][0] ? b : lo;
+        hi = prof[b][0] > prof[hi][0] ? b : hi;
+    }
+    memcpy(centre[0], prof[lo], sizeof centre[0]);
+    memcpy(centre[1], prof[hi], sizeof centre[1]);
+    if (k == 3) { /* the bin farthest from both */
+        int far = 0;
+        double best = -1;
+        for (int b = 0; b < nb; b++) {
+            double d = INFINITY;
+            for (int c = 0; c < 2; c++) {
+                double e = 0;
+                for (int j = 0; j < 3; j++)
+                    e += (prof[b][j] - centre[c][j]) * (prof[b][j] - centre[c][j]);
+                d = fmin(d, e);
+            }
+            if (d > best) {
+                best = d;
+                far = b;
+            }
+        }
+        memcpy(centre[2], prof[far], sizeof centre[2]);
+    }
+    for (int it = 0; it < KMEANS_ITERS; it++) {
+        for (int b = 0; b < nb; b++) {
+            double best = INFINITY;
+            for (int c = 0; c < k; c++) {
+                double e = 0;
+                for (int j = 0; j < 3; j++)
+                    e += (prof[b][j] - centre[c][j]) * (prof[b][j] - centre[c][j]);
+                if (e < best) {
+                    best = e;
+                    cls[b] = c;
+                }
+            }
+        }
+        for (int c = 0; c < k; c++) {
+            double s[3] = {0}, n = 0;
+            for (int b = 0; b < nb; b++)
+                if (cls[b] == c) {
+                    for (int j = 0; j < 3; j++)
+                        s[j] += prof[b][j];
+                    n++;
+                }
+            if (n > 0)
+                for (int j = 0; j < 3; j++)
+                    centre[c][j] = s[j] / n;
+        }
+    }
+}
+
+static void to_srgb(const double lab[3], double out[3])
+{
+    const float l[3] = {(float)lab[0], (float)lab[1], (float)lab[2]};
+    float rgb[3];
+    sq_fit_lab_to_srgb(l, rgb);
+    for (int j = 0; j < 3; j++)
+        out[j] = fmin(fmax(rgb[j], 0), 1);
+}
+
+/* One reading of the profile (nb bins a repeat of `period` rows) in k colours; 0 when its
+ * bands do not fit a tile. */
+static int reading(const double (*prof)[3], int nb, double period, double corr, int k, SqBandsReading *out)
+{
+    int cls[ROWS_PER_TILE * 8], count[3] = {0};
+    double centre[3][3];
+    kmeans(prof, nb, k, cls, centre);
+    for (int b = 0; b < nb; b++)
+        count[cls[b]]++;
+    int skin = 0;
+    for (int c = 1; c < k; c++)
+        skin = count[c] > count[skin] ? c : skin;
+    if (count[skin] == nb)
+        return 0;
+    /* start at a skin bin, so that no run wraps round */
+    int s0 = 0;
+    while (cls[s0] != skin)
+        s0++;
+    memset(out, 0, sizeof *out);
+    int nb_out = 0;
+    double be[2 * SQ_BANDS_MAX][2];
+    int bc[2 * SQ_BANDS_MAX];
+    for (int i = 0; i < nb;) {
+        const int b = (s0 + i) % nb;
+        if (cls[b] == skin) {
+            i++;
+            continue;
+        }
+        int j = i; /* the run of non-skin bins [i, j) */
+        while (j < nb && cls[(s0 + j) % nb] != skin)
+            j++;
+        if (nb_out >= 2 * SQ_BANDS_MAX)
+            return 0;
+        /* the run in its edge's colour, and within it runs of the other colour over it */
+        const int edge = cls[b];
+        be[nb_out][0] = (double)(s0 + i) / nb;
+        be[nb_out][1] = (double)(s0 + j) / nb;
+        bc[nb_out++] = edge;
+        for (int a = i; a < j;) {
+            if (cls[(s0 + a) % nb] == edge) {
+                a++;
+                continue;
+            }
+            int e = a;
+            while (e < j && cls[(s0 + e) % nb] != edge)
+                e++;
+            if (nb_out >= 2 * SQ_BANDS_MAX)
+                return 0;
+            be[nb_out][0] = (double)(s0 + a) / nb;
+            be[nb_out][1] = (double)(s0 + e) / nb;
+            bc[nb_out++] = cls[(s0 + a) % nb];
+            a = e;
+        }
+        i = j;
+    }
+    /* as many repeats a tile as make it VIEW_MIN long, when the bands allow */
+    int rep = 1;
+    while (rep * period / ROWS_PER_TILE < VIEW_MIN)
+        rep++;
+    if (nb_out * rep > SQ_BANDS_MAX || rep * period / ROWS_PER_TILE > VIEW_MAX)
+        return 0;
+    out->period = period;
+    out->repeats = rep;
+    out->view_scale = rep * period / ROWS_PER_TILE;
+    out->corr = corr;
+    out->colours = k;
+    to_srgb(centre[skin], out->skin);
+    for (int r = 0; r < rep; r++)
+        for (int i = 0; i < nb_out; i++) {
+            const int n = out->nbands++;
+            out->begin_end[n][0] = fmod((r + be[i][0]) / rep, 1.0);
+            out->begin_end[n][1] = fmod((r + be[i][1]) / rep, 1.0);
+            to_srgb(centre[bc[i]], out->colour[n]);
+        }
+    return 1;
+}
+
+int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading *out, int max)
+{
+    if (!strip || !strip->px || strip->width != W || strip->channels < 3 || max < 1 ||
+        (valid && (valid->width != W || valid->height != strip->height)))
+        return 0;
+    const int n = strip->height;
+    double(*m)[3] = calloc((size_t)n, sizeof *m);
+    unsigned char *ok = calloc((size_t)n, 1);
+    double *r = calloc((size_t)n, sizeof *r);
+    int found = 0;
+    if (!m || !ok || !r)
+        goto done;
+    /* each row's mean colour, less the strip's; the share of the colours' variance between
+     * the rows (bands: nearly all of it; spots and automata vary along the rows too; taking
+     * the columns' means out first, the body's shading across, read the automata nearer
+     * to bands) */
+    double mean[3] = {0}, within = 0;
+    int rows = 0;
+    for (int y = 0; y < n; y++) {
+        double s[3] = {0}, s2 = 0;
+        int c = 0;
+        for (int x = 0; x < W; x++) {
+            const size_t i = (size_t)y * W + x;
+            if (valid && valid->px[i] <= 0.5f)
+                continue;
+            float lab[3];
+            sq_fit_srgb_to_lab(strip->px + i * strip->channels, lab);
+            for (int j = 0; j < 3; j++) {
+                s[j] += lab[j];
+                s2 += (double)lab[j] * lab[j];
+            }
+            c++;
+        }
+        if (c >= MIN_VALID) {
+            ok[y] = 1;
+            rows++;
+            for (int j = 0; j < 3; j++) {
+                m[y][j] = s[j] / c;
+                mean[j] += m[y][j];
+                s2 -= c * m[y][j] * m[y][j];
+            }
+            within += s2 / c;
+        }
+    }
+    if (rows < 4 * LAG_MIN)
+        goto done;
+    for (int j = 0; j < 3; j++)
+        mean[j] /= rows;
+    double between = 0;
+    for (int y = 0; y < n; y++)
+        for (int j = 0; j < 3 && ok[y]; j++) {
+            m[y][j] -= mean[j];
+            between += m[y][j] * m[y][j];
+        }
+    const double explained = between + within > 0 ? between / (between + within) : 0;
+    /* the normalised autocorrelation at each lag: two repeats at least in the strip */
+    const int lag_max = n / 2 < ROWS_PER_TILE * VIEW_MAX ? n / 2 : (int)(ROWS_PER_TILE * VIEW_MAX);
+    if (lag_max <= LAG_MIN + 1)
+        goto done;
+    for (int L = LAG_MIN - 1; L <= lag_max; L++) {
+        double sab = 0, saa = 0, sbb = 0;
+        for (int y = 0; y + L < n; y++) {
+            if (!ok[y] || !ok[y + L])
+                continue;
+            for (int j = 0; j < 3; j++) {
+                sab += m[y][j] * m[y + L][j];
+                saa += m[y][j] * m[y][j];
+                sbb += m[y + L][j] * m[y + L][j];
+            }
+        }
+        r[L] = saa > 0 && sbb > 0 ? sab / sqrt(saa * sbb) : 0;
+    }
+    double best = 0;
+    for (int L = LAG_MIN; L < lag_max; L++)
+        if (r[L] > r[L - 1] && r[L] >= r[L + 1])
+            best = fmax(best, r[L]);
+    if (!(best > 0))
+        goto done;
+    int lag = 0;
+    for (int L = LAG_MIN; L < lag_max && !lag; L++)
+        if (r[L] > r[L - 1] && r[L] >= r[L + 1] && r[L] >= NEAR * best)
+            lag = L;
+    /* the peak to a fraction of a row (a parabola through it and its neighbours) */
+    const double den = r[lag - 1] - 2 * r[lag] + r[lag + 1];
+    const double period = lag + (den < 0 ? 0.5 * (r[lag - 1] - r[lag + 1]) / den : 0);
+    /* one repeat's profile: the rows folded at the period, a bin a row */
+    const int nb = (int)lround(period);
+    if (nb > ROWS_PER_TILE * 8)
+        goto done;
+    double(*prof)[3] = calloc((size_t)nb, sizeof *prof);
+    double *cnt = calloc((size_t)nb, sizeof *cnt);
+    if (prof && cnt) {
+        for (int y = 0; y < n; y++) {
+            if (!ok[y])
+                continue;
+            const double ph = fmod(y / period, 1.0);
+            const int b = (int)(ph * nb) % nb;
+            for (int j = 0; j < 3; j++)
+                prof[b][j] += m[y][j] + mean[j];
+            cnt[b]++;
+        }
+        int empty = 0;
+        for (int b = 0; b < nb; b++) {
+            if (cnt[b] > 0)
+                for (int j = 0; j < 3; j++)
+                    prof[b][j] /= cnt[b];
+            else
+                empty++;
+        }
+        for (int b = 0; b < nb && empty < nb; b++) /* a bin no row fell in: its neighbour's */
+            if (cnt[b] == 0) {
+                int a = b;
+                while (cnt[a] == 0)
+                    a = (a + nb - 1) % nb;
+                memcpy(prof[b], prof[a], sizeof prof[b]);
+            }
+        for (int k = 2; k <= 3 && found < max && empty < nb; k++)
+            if (reading((const double(*)[3])prof, nb, period, r[lag], k, &out[found]))
+                out[found++].explained = explained;
+    }
+    free(prof);
+    free(cnt);
+done:
+    free(m);
+    free(ok);
+    free(r);
+    return found;
+}
