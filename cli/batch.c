@@ -98,7 +98,7 @@ static SqStatus write_done(const char *dir, const Batch *b, const CliManifestRow
             cJSON_AddItemToObject(o, sq_fit_objective_name(k), sq__json_exact_number(r->obj[k]));
         cJSON_AddNumberToObject(root, "evaluations", (double)r->evals);
         if (r->strip_widths > 0)
-            cJSON_AddNumberToObject(root, "strip_body_widths", round(r->strip_widths * 100) / 100);
+            cJSON_AddItemToObject(root, "strip_body_widths", sq__json_exact_number(r->strip_widths));
     } else {
         cJSON_AddStringToObject(root, "error", r->error);
     }

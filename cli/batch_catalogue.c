@@ -221,10 +221,13 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
                 differs_html(&b, outdir, id, rows[i].expected);
             if (r->strip_widths > 0 && r->strip_widths < CLI_SHORT_STRIP) {
                 cli_buf_put(&b, "%s<b>short strip</b>: %.1f body widths of the body, too few to see a pattern "
-                                "repeat; give the row a body line (see <a href='",
-                            rows[i].expected >= 0 && rows[i].expected != r->fitted ? "<br>" : "", r->strip_widths);
+                                "repeat; %s (see <a href='",
+                            rows[i].expected >= 0 && rows[i].expected != r->fitted ? "<br>" : "",
+                            floor(r->strip_widths * 10) / 10,
+                            rows[i].body_line ? "draw its body line along a longer stretch"
+                                              : "give the row a body line or a mask");
                 cli_buf_html(&b, id);
-                cli_buf_put(&b, "/line.png'>the line followed</a>) or a mask");
+                cli_buf_put(&b, "/line.png'>the line followed</a>)");
             }
             cli_buf_put(&b, "</td></tr>\n");
         } else {

@@ -63,9 +63,10 @@ SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *pre
 
 /* A strip shorter than CLI_SHORT_STRIP body widths shows too little of the skin to see a
  * pattern repeat (a band or a blotch every body width or two). For such a prep: 1 and
- * the warning, saying what to do, in buf (n bytes); else 0. */
+ * the warning, saying what to do (line_given: a body line was followed), in buf (n
+ * bytes); else 0. */
 #define CLI_SHORT_STRIP 3.0
-int cli_short_strip(const SqPrepared *prep, char *buf, size_t n);
+int cli_short_strip(const SqPrepared *prep, int line_given, char *buf, size_t n);
 
 /* The centre line prep followed, in dir: line.json (a point every half body width, to
  * correct and give back with --line), unless a line was given (the user's own file, never

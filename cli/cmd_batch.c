@@ -206,7 +206,8 @@ static void summary(const Batch *b, double seconds, int resumed)
         for (int i = 0, k = 0; i < b->nrows; i++)
             if (short_strip(&b->results[i]) && k++ < 3)
                 printf("%s%s", k > 1 ? ", " : "", b->rows[i].id);
-        printf("%s): see their line.png, and give them a body line (the manifest's body_line column) or a mask\n",
+        printf("%s): see their line.png, and give them a body line along a longer stretch of the body (the "
+               "manifest's body_line column) or a mask\n",
                nshort > 3 ? ", ..." : "");
     }
     printf("catalogue: %s/catalogue.csv, %s/index.html\n", b->outdir, b->outdir);

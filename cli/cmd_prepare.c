@@ -117,7 +117,7 @@ SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *pre
     return sq_fit_prepare(&in->photo, in->mask.px ? &in->mask : NULL, &po, prep, err);
 }
 
-int cli_short_strip(const SqPrepared *prep, char *buf, size_t n)
+int cli_short_strip(const SqPrepared *prep, int line_given, char *buf, size_t n)
 {
     const double widths = prep->length / prep->body_width;
     if (!(widths < CLI_SHORT_STRIP))
@@ -125,11 +125,11 @@ int cli_short_strip(const SqPrepared *prep, char *buf, size_t n)
     static const char *const what[] = {
         [SQ_MASK_GIVEN] = "the mask shows", [SQ_MASK_ALPHA] = "the photo's alpha shows",
         [SQ_MASK_AUTOMATIC] = "the automatic mask found", [SQ_MASK_LINE] = "the body line covers"};
-    snprintf(buf, n,
-             "%s only %.1f body widths of clean body (%.0f at least to see a pattern repeat); see line.png, "
-             "and give a body line (--line) along a longer stretch of the body%s",
-             what[prep->mask_source], widths, CLI_SHORT_STRIP,
-             prep->mask_source == SQ_MASK_LINE ? "" : " or a mask (--mask) of it");
+    snprintf(buf, n, "%s only %.1f body widths of clean body (%.0f at least to see a pattern repeat); see line.png, %s",
+             line_given ? "the body line covers" : what[prep->mask_source],
+             floor(widths * 10) / 10, /* never "3.0" */ CLI_SHORT_STRIP,
+             line_given ? "and draw the line (--line) along a longer stretch of the body"
+                        : "and give a body line (--line) along a longer stretch of the body or a mask (--mask) of it");
     return 1;
 }
 
@@ -242,7 +242,7 @@ int cmd_prepare(int argc, char **argv)
             rc = cli_fail(&err);
         free(text);
         char warning[512];
-        if (rc == CLI_OK && cli_short_strip(&prep, warning, sizeof warning))
+        if (rc == CLI_OK && cli_short_strip(&prep, line_path != NULL, warning, sizeof warning))
             fprintf(stderr, "squama: warning: %s\n", warning);
         if (rc == CLI_OK)
             printf("%s: %s mask, body %.0f px wide, %.0f px of it in %d stretch%s straightened into a "

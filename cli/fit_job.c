@@ -231,9 +231,9 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddStringToObject(in, "mask_source", sq_mask_source_name(prep->mask_source));
     cJSON_AddNumberToObject(in, "body_width_px", prep->body_width);
     cJSON_AddNumberToObject(in, "strip_length_px", prep->length);
-    cJSON_AddNumberToObject(in, "strip_body_widths", round(prep->length / prep->body_width * 100) / 100);
+    cJSON_AddItemToObject(in, "strip_body_widths", sq__json_exact_number(prep->length / prep->body_width));
     char warning[512];
-    const int short_strip = cli_short_strip(prep, warning, sizeof warning);
+    const int short_strip = cli_short_strip(prep, line_path != NULL, warning, sizeof warning);
     if (short_strip)
         cJSON_AddStringToObject(in, "warning", warning);
     cJSON_AddNumberToObject(in, "strip_stretches", prep->nruns);
@@ -502,7 +502,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         st = sq_fit_photo_target(&prep, &target, err);
     clock.prepare = cli_now_s() - clock.t0;
     char warning[512];
-    if (st == SQ_OK && !job->quiet && cli_short_strip(&prep, warning, sizeof warning))
+    if (st == SQ_OK && !job->quiet && cli_short_strip(&prep, job->line != NULL, warning, sizeof warning))
         fprintf(stderr, "squama: warning: %s\n", warning);
     if (fo.budget > 0) { /* the budget is the whole command's */
         fo.budget = cli_search_budget(fo.budget, clock.prepare, job->size);

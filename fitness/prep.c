@@ -973,9 +973,10 @@ static void line_mask(const Curve *curves, int ncurves, double r, int w, int h, 
 /* A body line's band is drawn by hand: wider than the body, or off its middle, it takes in
  * the ground, a branch, the next coil. The band's body found by colour (GrabCut: the line's
  * middle, LINE_CORE of the radius, certainly body, the band's rest probably, as far again
- * round it probably not); kept unless it leaves less than LINE_KEEP of the band, where
- * the colours did not tell body from backdrop and the band is taken as drawn. */
-static const double LINE_CORE = 0.4, LINE_KEEP = 0.4;
+ * round it probably not); kept unless it leaves less than LINE_KEEP of the band outside
+ * the middle (which is always kept), where the colours did not tell body from backdrop
+ * and the band is taken as drawn. */
+static const double LINE_CORE = 0.4, LINE_KEEP = 0.25;
 
 static void band_body(const SqImage *photo, const Curve *curves, int ncurves, double r, uint8_t *band)
 {
@@ -986,8 +987,8 @@ static void band_body(const SqImage *photo, const Curve *curves, int ncurves, do
         if (sq__cv_grabcut_band(photo->px, w, h, band, core, (int)ceil(r), found) == 0) {
             size_t n = 0, kept = 0;
             for (size_t i = 0; i < (size_t)w * h; i++) {
-                n += band[i] != 0;
-                kept += found[i] != 0;
+                n += band[i] && !core[i];
+                kept += found[i] && !core[i];
             }
             if (kept >= LINE_KEEP * (double)n)
                 memcpy(band, found, (size_t)w * h);

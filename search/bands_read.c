@@ -18,18 +18,21 @@
 
 enum {
     W = SQ_FIT_STRIP_W,
-    ROWS_PER_TILE = 192, /* strip rows a tile at view scale 1 (the strip's 64 columns span a
-                            third of the way round) */
-    MIN_VALID = W / 8,   /* valid pixels a row needs to count */
-    LAG_MIN = 6,         /* the shortest repeat read, rows */
+    MIN_VALID = W / 8, /* valid pixels a row needs to count */
+    LAG_MIN = 6,       /* the shortest repeat read, rows */
     KMEANS_ITERS = 20
 };
-static const double VIEW_MIN = 0.25, VIEW_MAX = 8; /* the fit's view scales */
+/* strip rows a tile at view scale 1: the strip's columns span SQ_FIT_BAND_WIDTH of the way
+ * round */
+#define ROWS_PER_TILE (W / SQ_FIT_BAND_WIDTH)
+enum { BINS_MAX = 1600 }; /* a repeat's bins (a row each), at most: a tile at view scale 8 */
+static const double VIEW_MIN = 0.25, VIEW_MAX = 8; /* the fit's view scales (fit.c's VIEW_LO, VIEW_HI) */
 static const double NEAR = 0.85; /* a repeat scoring this share of the best, or more, is read
                                     when shorter */
 
-/* k-means of the profile's nb bins (Lab, 3 each) into k colours, started from the bins
- * of lightest, darkest and middle lightness; class[] and centre[] filled. */
+/* k-means of the profile's nb bins (Lab, 3 each) into k colours, started from the darkest
+ * and the lightest bin and (k = 3) the bin farthest from both; class[] and centre[]
+ * filled. */
 static void kmeans(const double (*prof)[3], int nb, int k, int *cls, double (*centre)[3])
 {
     int lo = 0, hi = 0;
@@ -98,16 +101,17 @@ static void to_srgb(const double lab[3], double out[3])
  * bands do not fit a tile. */
 static int reading(const double (*prof)[3], int nb, double period, double corr, int k, SqBandsReading *out)
 {
-    int cls[ROWS_PER_TILE * 8], count[3] = {0};
+    int cls[BINS_MAX], count[3] = {0};
     double centre[3][3];
     kmeans(prof, nb, k, cls, centre);
     for (int b = 0; b < nb; b++)
         count[cls[b]]++;
     int skin = 0;
-    for (int c = 1; c < k; c++)
+    for (int c = 0; c < k; c++) {
+        if (count[c] == 0) /* fewer colours than k: the reading with fewer says it */
+            return 0;
         skin = count[c] > count[skin] ? c : skin;
-    if (count[skin] == nb)
-        return 0;
+    }
     /* start at a skin bin, so that no run wraps round */
     int s0 = 0;
     while (cls[s0] != skin)
@@ -174,7 +178,7 @@ static int reading(const double (*prof)[3], int nb, double period, double corr, 
 int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading *out, int max)
 {
     if (!strip || !strip->px || strip->width != W || strip->channels < 3 || max < 1 ||
-        (valid && (valid->width != W || valid->height != strip->height)))
+        (valid && (!valid->px || valid->width != W || valid->height != strip->height || valid->channels < 1)))
         return 0;
     const int n = strip->height;
     double(*m)[3] = calloc((size_t)n, sizeof *m);
@@ -184,9 +188,9 @@ int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading
     if (!m || !ok || !r)
         goto done;
     /* each row's mean colour, less the strip's; the share of the colours' variance between
-     * the rows (bands: nearly all of it; spots and automata vary along the rows too; taking
-     * the columns' means out first, the body's shading across, read the automata nearer
-     * to bands) */
+     * the rows, every row weighing the same (bands: nearly all of it; spots and automata
+     * vary along the rows too. Tried: the columns' means, the body's shading across, taken
+     * out first; it read the automata nearer to bands) */
     double mean[3] = {0}, within = 0;
     int rows = 0;
     for (int y = 0; y < n; y++) {
@@ -194,7 +198,7 @@ int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading
         int c = 0;
         for (int x = 0; x < W; x++) {
             const size_t i = (size_t)y * W + x;
-            if (valid && valid->px[i] <= 0.5f)
+            if (valid && valid->px[i * valid->channels] <= 0.5f)
                 continue;
             float lab[3];
             sq_fit_srgb_to_lab(strip->px + i * strip->channels, lab);
@@ -258,7 +262,7 @@ int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading
     const double period = lag + (den < 0 ? 0.5 * (r[lag - 1] - r[lag + 1]) / den : 0);
     /* one repeat's profile: the rows folded at the period, a bin a row */
     const int nb = (int)lround(period);
-    if (nb > ROWS_PER_TILE * 8)
+    if (nb > BINS_MAX)
         goto done;
     double(*prof)[3] = calloc((size_t)nb, sizeof *prof);
     double *cnt = calloc((size_t)nb, sizeof *cnt);

@@ -587,8 +587,9 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
     return k;
 }
 
-/* Transversal bands read off the photo's strip (sq_fit_read_bands), the best reading kept
- * in the result: none of it starts a screening candidate. Tried and not kept (session
+/* Transversal bands read off the photo's strip (sq_fit_read_bands), the first reading
+ * (two colours; both readings share the repeat and the share explained) kept in the
+ * result: none of it starts a screening candidate. Tried and not kept (session
  * 37): BANDS_VARIANTS = 4 candidates a reading (two colours and three), its bands, colours
  * and view scale, unturned, without warps, blur, contrast or colour noise, the other genes
  * drawn, when the best reading repeats 0.5 or more and its rows hold 0.75 or more of the

@@ -277,12 +277,15 @@ static void body_line_followed(void **state)
     sq_fit_prepared_free(&pm);
     sq_fit_prepared_free(&prep);
 
-    /* with a mask: body only where it says so too (an empty half: much of the strip invalid) */
+    /* with a mask: body only where it says so too (the body beyond the middle of its
+     * centre line left out: about half the strip invalid) */
+    const double mid_x = t.points[2 * (t.npoints / 2)];
+    const int rising = t.points[2 * (t.npoints - 1)] > t.points[0];
     SqImage half;
     assert_int_equal(sq_image_alloc(&half, 640, 480, 1, SQ_SPACE_DATA), 0);
     for (int y = 0; y < 480; y++)
         for (int x = 0; x < 640; x++)
-            half.px[y * 640 + x] = x < 320 ? mask.px[y * 640 + x] : 0.0f;
+            half.px[y * 640 + x] = (rising ? x < mid_x : x > mid_x) ? mask.px[y * 640 + x] : 0.0f;
     assert_int_equal(sq_fit_prepare(&photo, &half, &o, &prep, &err), SQ_OK);
     assert_int_equal(prep.mask_source, SQ_MASK_GIVEN);
     assert_int_equal(sq_fit_prepare(&photo, NULL, &o, &pm, &err), SQ_OK);
@@ -292,7 +295,7 @@ static void body_line_followed(void **state)
         vb += pm.valid.px[i];
     }
     print_message("valid with the half mask %.0f, with the line alone %.0f\n", va, vb);
-    assert_true(va < 0.9 * vb);
+    assert_true(va < 0.75 * vb);
     sq_fit_prepared_free(&pm);
     sq_fit_prepared_free(&prep);
     sq_image_free(&half);
@@ -385,7 +388,6 @@ static void replay_line(const char *path, void *ctx)
     }
 }
 
-/* The body line's JSON: read back as written; bad files refused naming the place. */
 /* A line drawn wider than the body (by 60%) takes in the ground beside it; the band's body
  * is found by colour, and the mask is the body's, not the band's. */
 static void body_line_band_found_by_colour(void **state)
@@ -436,6 +438,7 @@ static void body_line_band_found_by_colour(void **state)
     }
 }
 
+/* The body line's JSON: read back as written; bad files refused naming the place. */
 static void body_line_files(void **state)
 {
     (void)state;

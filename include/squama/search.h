@@ -240,8 +240,10 @@ typedef struct SqBandsReading {
 /* Reads the rows' mean colours' repeat along the strip (valid: where the body is, or NULL):
  * the shortest lag whose autocorrelation peaks within 15% of the best, two repeats in the
  * strip at least; the rows folded at it into one repeat's profile, split into two and
- * into three colours (k-means), each a reading when its bands fit a tile. Returns how many
- * (up to max; 0: bad arguments, too few valid rows, no repeat, or out of memory).
+ * into three colours (k-means), each a reading when its bands fit a tile and it has as
+ * many colours. Any positive peak gives a reading, however weak (noise reads a repeat of
+ * 0.05): corr says how far to trust it. Returns how many (up to max; 0: bad arguments, too
+ * few valid rows, no positive peak, no bands that fit a tile, or out of memory).
  * Deterministic. */
 int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading *out, int max);
 
