@@ -30,6 +30,11 @@ static const double VIEW_MIN = 0.25, VIEW_MAX = 8; /* the fit's view scales (fit
 static const double NEAR = 0.85; /* a repeat scoring this share of the best, or more, is read
                                     when shorter */
 
+static double dist2(const double a[3], const double b[3])
+{
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
 /* k-means of the profile's nb bins (Lab, 3 each) into k colours, started from the darkest
  * and the lightest bin and (k = 3) the bin farthest from both; class[] and centre[]
  * filled. */
@@ -46,13 +51,7 @@ static void kmeans(const double (*prof)[3], int nb, int k, int *cls, double (*ce
         int far = 0;
         double best = -1;
         for (int b = 0; b < nb; b++) {
-            double d = INFINITY;
-            for (int c = 0; c < 2; c++) {
-                double e = 0;
-                for (int j = 0; j < 3; j++)
-                    e += (prof[b][j] - centre[c][j]) * (prof[b][j] - centre[c][j]);
-                d = fmin(d, e);
-            }
+            const double d = fmin(dist2(prof[b], centre[0]), dist2(prof[b], centre[1]));
             if (d > best) {
                 best = d;
                 far = b;
@@ -64,9 +63,7 @@ static void kmeans(const double (*prof)[3], int nb, int k, int *cls, double (*ce
         for (int b = 0; b < nb; b++) {
             double best = INFINITY;
             for (int c = 0; c < k; c++) {
-                double e = 0;
-                for (int j = 0; j < 3; j++)
-                    e += (prof[b][j] - centre[c][j]) * (prof[b][j] - centre[c][j]);
+                const double e = dist2(prof[b], centre[c]);
                 if (e < best) {
                     best = e;
                     cls[b] = c;
