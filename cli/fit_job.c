@@ -25,7 +25,7 @@ typedef struct Ctx {
     int quiet, json, tty;
     double last_checkpoint, last_draw, budget;
     long max_evals;
-    double offset_s;  /* time spent before a resume */
+    double offset_s;  /* time spent before the search: earlier runs' (a resume) and the preparation */
     char checkpoint_error[SQ_ERROR_WHAT_MAX + SQ_ERROR_WHERE_MAX + 8];
 } Ctx;
 
@@ -519,7 +519,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         x.tty = isatty(STDERR_FILENO);
         x.budget = fo.budget;
         x.max_evals = fo.max_evals;
-        x.offset_s = job->offset_s;
+        x.offset_s = job->offset_s + clock.prepare; /* a resume is charged for the preparation too */
         fo.progress = progress;
         fo.ctx = &x;
         fo.stop = job->stop;

@@ -240,7 +240,7 @@ run render "$TMP/fit/best.json" -o "$TMP/fit/r" --size 32; check "render the fit
 run render "$TMP/fit/kinds/none.json" -o "$TMP/fit/r" --size 32; check "render a kind's best" 0
 if command -v python3 >/dev/null; then
   python3 - "$TMP/fit/fit.json" "$TMP/fit/report.html" <<'PY' || { echo "FAIL: fit.json content"; fails=$((fails + 1)); }
-import json, sys
+import json, os, sys
 f = json.load(open(sys.argv[1]))
 assert f["format"] == "squama-fit/1", f["format"]
 assert set(f["objectives"]) == {"palette", "histogram", "shape", "along", "across"}
@@ -252,6 +252,9 @@ assert s["budget_s"] == 0 and s["search_budget_s"] == 0, s
 assert all(t[x] >= 0 for x in ("prepare", "search", "outputs")), t
 assert abs(t["prepare"] + t["search"] + t["outputs"] - t["total"]) < 1e-6, t
 assert t["search"] >= sum(t[x] for x in ("screen", "evolve", "rescore", "layer", "polish", "recolour")), t
+# the checkpoint's time, which a resume takes off its budget, counts the preparation
+c = json.load(open(os.path.join(os.path.dirname(sys.argv[1]), "checkpoint", "checkpoint.json")))
+assert t["prepare"] <= c["seconds"] <= t["prepare"] + t["search"], (c["seconds"], t)
 assert f["category"] in f["category_scores"]
 # each kind's best as a preset; the chosen kind's is best.json, the others' the scores compared
 import os, struct
