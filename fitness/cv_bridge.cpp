@@ -75,6 +75,49 @@ extern "C" int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *m
     }
 }
 
+extern "C" int sq__cv_backdrop_out(const float *rgb, int w, int h, uint8_t *mask)
+{
+    enum { K = 8 };
+    try {
+        cv::Mat f(h, w, CV_32FC3, const_cast<float *>(rgb)), lab, labels, centres;
+        cv::cvtColor(f, lab, cv::COLOR_RGB2Lab);
+        cv::setRNGSeed(GRABCUT_SEED);
+        cv::kmeans(lab.reshape(1, w * h), K, labels, cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.5),
+                   1, cv::KMEANS_PP_CENTERS, centres);
+        size_t in[K] = {0}, all[K] = {0};
+        for (int i = 0; i < w * h; i++) {
+            const int c = labels.at<int>(i);
+            all[c]++;
+            in[c] += mask[i] != 0;
+        }
+        cv::Mat m(h, w, CV_8UC1, mask), cut = m.clone();
+        for (int i = 0; i < w * h; i++) {
+            const int c = labels.at<int>(i);
+            if (2 * in[c] < all[c])
+                cut.data[i] = 0;
+        }
+        /* a body colour shared with the backdrop (black rings on dark ground) went with
+         * it: closed again over gaps of up to 1.5 body widths, within the mask */
+        cv::Mat dist;
+        cv::distanceTransform(cut, dist, cv::DIST_L2, 3);
+        std::vector<float> d;
+        for (int i = 0; i < w * h; i++)
+            if (cut.data[i])
+                d.push_back(dist.at<float>(i));
+        if (d.empty()) {
+            m.setTo(0);
+            return 0;
+        }
+        std::nth_element(d.begin(), d.begin() + d.size() * 95 / 100, d.end());
+        const int r = std::max(1, (int)std::lround(1.5 * d[d.size() * 95 / 100]));
+        cv::morphologyEx(cut, cut, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+        cv::bitwise_and(m, cut, m);
+        return 0;
+    } catch (...) {
+        return -1;
+    }
+}
+
 extern "C" int sq__cv_grabcut_band(const float *rgb, int w, int h, const uint8_t *band, const uint8_t *core,
                                    int reach, uint8_t *mask)
 {

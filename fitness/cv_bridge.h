@@ -20,6 +20,11 @@ int sq__cv_grabcut(const float *rgb, int w, int h, double inset, uint8_t *mask);
  * saliency): the most salient sixth probably the object, the least salient half not. */
 int sq__cv_grabcut_salient(const float *rgb, int w, int h, uint8_t *mask);
 
+/* A mask with the backdrop's colours taken out: the image's colours clustered (k-means in
+ * CIELAB), and the mask's pixels of every cluster that lies mostly outside the mask set to
+ * 0 (the ground that a coiled body encloses, which GrabCut takes for body). */
+int sq__cv_backdrop_out(const float *rgb, int w, int h, uint8_t *mask);
+
 /* Which of a band is body, by GrabCut: the core certainly body, the rest of the band
  * probably, `reach` pixels round the band probably not, everything further certainly
  * not; run on the part of the image that holds the band and its surround. mask: 255

@@ -692,32 +692,61 @@ static void photo_blur_from_the_outline(void **state)
     assert_true(sq_fit_strip_blur(1, 2) > sq_fit_strip_blur(1, 1) && sq_fit_strip_blur(1, 1) > sq_fit_strip_blur(1, 0));
 }
 
+/* ../shared/photos/<name> read into *photo; 0 when it is not here. */
+static int shared_photo(const char *name, SqImage *photo)
+{
+    char path[2048];
+    SqError err;
+    snprintf(path, sizeof path, "%s/photos/%s", SQUAMA_SHARED_DIR, name);
+    if (access(path, R_OK) != 0)
+        return 0;
+    assert_int_equal(sq_io_read_image(path, NULL, photo, NULL, &err), SQ_OK);
+    return 1;
+}
+
+/* Real photos, where they are here: each straightened or refused with a reason. Two of
+ * them had their automatic mask take the ground within a loop of the body for body
+ * (GrabCut's rectangle holds far more ground than snake; the centre line then crossed the
+ * loop): a coral snake loosely looped on dry soil, before 1.7 body widths of strip, and a
+ * banded krait whose dark rings go with the dark litter, before refused. They must give
+ * more than 3 body widths of clean body. */
 static void real_photos(void **state)
 {
     (void)state;
-    static const char *const names[] = {"micrurus_frontalis__br0353.jpg", "philodryas_olfersii__br0067.jpg"};
-    char path[2048];
-    int tried = 0, ok = 0;
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        snprintf(path, sizeof path, "%s/photos/%s", SQUAMA_SHARED_DIR, names[i]);
-        if (access(path, R_OK) != 0)
-            continue;
+    static const struct {
+        const char *name;
+        int work_size, loop; /* loop: must give 3 body widths */
+    } photos[] = {
+        {"micrurus_frontalis__br0353.jpg", 512, 0},
+        {"philodryas_olfersii__br0067.jpg", 512, 0},
+        {"micrurus_ibiboboca__ccj0207.jpg", 1024, 1},
+        {"bungarus_fasciatus__th0079.jpg", 1024, 1},
+    };
+    int tried = 0;
+    for (size_t i = 0; i < sizeof photos / sizeof photos[0]; i++) {
         SqImage photo;
         SqPrepared prep;
         SqError err;
-        assert_int_equal(sq_io_read_image(path, NULL, &photo, NULL, &err), SQ_OK);
+        if (!shared_photo(photos[i].name, &photo))
+            continue;
         SqPrepOptions o = sq_fit_prep_options_default();
-        o.work_size = 512;
+        o.work_size = photos[i].work_size;
         SqStatus st = sq_fit_prepare(&photo, NULL, &o, &prep, &err);
         tried++;
         if (st == SQ_OK) {
-            ok++;
             assert_int_equal(prep.strip.width, SQ_FIT_STRIP_W);
             assert_true(prep.body_width > 4);
+            const double widths = prep.length / prep.body_width;
+            print_message("%s: body %.0f px wide, %.1f body widths straightened\n", photos[i].name, prep.body_width,
+                          widths);
+            if (photos[i].loop && widths < 3)
+                fail_msg("%s: %.1f body widths straightened", photos[i].name, widths);
         } else {
             assert_true(err.what[0] != '\0');
+            print_message("%s: %s\n", photos[i].name, err.what);
+            if (photos[i].loop)
+                fail_msg("%s: %s", photos[i].name, err.what);
         }
-        print_message("%s: %s\n", names[i], st == SQ_OK ? "straightened" : err.what);
         sq_fit_prepared_free(&prep);
         sq_image_free(&photo);
     }
