@@ -1,7 +1,8 @@
 /* The automatic mask on a folder of photos: each photo prepared as `squama fit` prepares
  * it without a mask, laid out in one contact sheet (the photo with what the mask leaves
  * out veiled in blue, the straightened strip beneath it, turned to run across), one line each on
- * stdout (what was found or why not), and the median time a photo. The sheet is cut into
+ * stdout (what was found or why not), the median time a photo, and the median length of
+ * clean body straightened in body widths with the count under 3. The sheet is cut into
  * pages of --rows rows (OUT-1.png, OUT-2.png, ...), each small enough to look at whole.
  * Usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N] */
 #define _POSIX_C_SOURCE 200809L
@@ -64,9 +65,9 @@ int main(int argc, char **argv)
     const int per_page = cols * prows, pages = (n + per_page - 1) / per_page, ch = CELL + STRIP_H + GAP;
     SqImage sheet = {0};
     char out[4096];
-    double *ms = malloc(sizeof *ms * (size_t)n);
-    int ok = 0;
-    printf("%4s  %-44s %s\n", "cell", "photo", "body width px, stretches, strip rows | why not");
+    double *ms = malloc(sizeof *ms * (size_t)n), *widths = malloc(sizeof *widths * (size_t)n);
+    int ok = 0, short_strips = 0;
+    printf("%4s  %-44s %s\n", "cell", "photo", "body width px, stretches, strip rows, body widths | why not");
     for (int k = 0; k < n; k++) {
         char path[4096];
         snprintf(path, sizeof path, "%s/%s", argv[1], names[k]);
@@ -98,9 +99,11 @@ int main(int argc, char **argv)
             cli_thumb_paste(&sheet, &t, x0, y0 + CELL + GAP);
             sq_image_free(&t);
         }
-        if (st == SQ_OK)
-            printf("%4d  %-44s %.0f, %d, %d\n", k, names[k], p.body_width, p.nruns, p.strip.height);
-        else
+        if (st == SQ_OK) { /* the clean body straightened, in body widths (3 to see a pattern repeat) */
+            widths[ok - 1] = p.length / p.body_width;
+            short_strips += widths[ok - 1] < 3;
+            printf("%4d  %-44s %.0f, %d, %d, %.1f\n", k, names[k], p.body_width, p.nruns, p.strip.height, widths[ok - 1]);
+        } else
             printf("%4d  %-44s | %s (%s)\n", k, names[k], err.what, err.where);
         fflush(stdout);
         sq_fit_prepared_free(&p);
@@ -120,10 +123,12 @@ int main(int argc, char **argv)
                    out, k / per_page * per_page, k, cols);
         }
     }
-    printf("RESULT masks n=%d prepared=%d median_ms=%.0f\n", n, ok, median(ms, n));
+    printf("RESULT masks n=%d prepared=%d median_ms=%.0f widths_median=%.2f under_3_widths=%d\n", n, ok, median(ms, n),
+           ok ? median(widths, ok) : 0.0, short_strips);
     for (int k = 0; k < n; k++)
         free(names[k]);
     free(names);
     free(ms);
+    free(widths);
     return 0;
 }
