@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "search_internal.h"
 #include "squama/fitness.h"
 #include "squama/search.h"
 
@@ -26,7 +27,6 @@ enum {
  * round */
 #define ROWS_PER_TILE (W / SQ_FIT_BAND_WIDTH)
 enum { BINS_MAX = 1600 }; /* a repeat's bins (a row each), at most: a tile at view scale 8 */
-static const double VIEW_MIN = 0.25, VIEW_MAX = 8; /* the fit's view scales (fit.c's VIEW_LO, VIEW_HI) */
 static const double NEAR = 0.85; /* a repeat scoring this share of the best, or more, is read
                                     when shorter */
 
@@ -94,6 +94,41 @@ static void to_srgb(const double lab[3], double out[3])
         out[j] = fmin(fmax(rgb[j], 0), 1);
 }
 
+/* The bands of a folded profile: runs of its bins' colours (cls, nb bins, read from bin
+ * s0 on), each from and to as fractions of the repeat, in its colour. */
+typedef struct Runs {
+    const int *cls;
+    int nb, s0, n;
+    double be[2 * SQ_BANDS_MAX][2];
+    int colour[2 * SQ_BANDS_MAX];
+} Runs;
+
+/* The runs of bins in [from, upto) not of colour `other`, each a band in its first bin's
+ * colour; with `inner`, within each the runs not of that colour again (a band drawn over
+ * a band). -1 when there are more than 2 SQ_BANDS_MAX. */
+static int runs(Runs *r, int from, int upto, int other, int inner)
+{
+    for (int i = from; i < upto;) {
+        const int c = r->cls[(r->s0 + i) % r->nb];
+        if (c == other) {
+            i++;
+            continue;
+        }
+        int j = i;
+        while (j < upto && r->cls[(r->s0 + j) % r->nb] != other)
+            j++;
+        if (r->n >= 2 * SQ_BANDS_MAX)
+            return -1;
+        r->be[r->n][0] = (double)(r->s0 + i) / r->nb;
+        r->be[r->n][1] = (double)(r->s0 + j) / r->nb;
+        r->colour[r->n++] = c;
+        if (inner && runs(r, i, j, c, 0) != 0)
+            return -1;
+        i = j;
+    }
+    return 0;
+}
+
 /* One reading of the profile (nb bins a repeat of `period` rows) in k colours; 0 when its
  * bands do not fit a tile. */
 static int reading(const double (*prof)[3], int nb, double period, double corr, int k, SqBandsReading *out)
@@ -114,47 +149,14 @@ static int reading(const double (*prof)[3], int nb, double period, double corr, 
     while (cls[s0] != skin)
         s0++;
     memset(out, 0, sizeof *out);
-    int nb_out = 0;
-    double be[2 * SQ_BANDS_MAX][2];
-    int bc[2 * SQ_BANDS_MAX];
-    for (int i = 0; i < nb;) {
-        const int b = (s0 + i) % nb;
-        if (cls[b] == skin) {
-            i++;
-            continue;
-        }
-        int j = i; /* the run of non-skin bins [i, j) */
-        while (j < nb && cls[(s0 + j) % nb] != skin)
-            j++;
-        if (nb_out >= 2 * SQ_BANDS_MAX)
-            return 0;
-        /* the run in its edge's colour, and within it runs of the other colour over it */
-        const int edge = cls[b];
-        be[nb_out][0] = (double)(s0 + i) / nb;
-        be[nb_out][1] = (double)(s0 + j) / nb;
-        bc[nb_out++] = edge;
-        for (int a = i; a < j;) {
-            if (cls[(s0 + a) % nb] == edge) {
-                a++;
-                continue;
-            }
-            int e = a;
-            while (e < j && cls[(s0 + e) % nb] != edge)
-                e++;
-            if (nb_out >= 2 * SQ_BANDS_MAX)
-                return 0;
-            be[nb_out][0] = (double)(s0 + a) / nb;
-            be[nb_out][1] = (double)(s0 + e) / nb;
-            bc[nb_out++] = cls[(s0 + a) % nb];
-            a = e;
-        }
-        i = j;
-    }
-    /* as many repeats a tile as make it VIEW_MIN long, when the bands allow */
+    Runs r = {.cls = cls, .nb = nb, .s0 = s0};
+    if (runs(&r, 0, nb, skin, 1) != 0)
+        return 0;
+    /* as many repeats a tile as make it SQ__VIEW_LO long, when the bands allow */
     int rep = 1;
-    while (rep * period / ROWS_PER_TILE < VIEW_MIN)
+    while (rep * period / ROWS_PER_TILE < SQ__VIEW_LO)
         rep++;
-    if (nb_out * rep > SQ_BANDS_MAX || rep * period / ROWS_PER_TILE > VIEW_MAX)
+    if (r.n * rep > SQ_BANDS_MAX || rep * period / ROWS_PER_TILE > SQ__VIEW_HI)
         return 0;
     out->period = period;
     out->repeats = rep;
@@ -162,12 +164,12 @@ static int reading(const double (*prof)[3], int nb, double period, double corr, 
     out->corr = corr;
     out->colours = k;
     to_srgb(centre[skin], out->skin);
-    for (int r = 0; r < rep; r++)
-        for (int i = 0; i < nb_out; i++) {
+    for (int t = 0; t < rep; t++)
+        for (int i = 0; i < r.n; i++) {
             const int n = out->nbands++;
-            out->begin_end[n][0] = fmod((r + be[i][0]) / rep, 1.0);
-            out->begin_end[n][1] = fmod((r + be[i][1]) / rep, 1.0);
-            to_srgb(centre[bc[i]], out->colour[n]);
+            out->begin_end[n][0] = fmod((t + r.be[i][0]) / rep, 1.0);
+            out->begin_end[n][1] = fmod((t + r.be[i][1]) / rep, 1.0);
+            to_srgb(centre[r.colour[i]], out->colour[n]);
         }
     return 1;
 }
@@ -228,7 +230,7 @@ int sq_fit_read_bands(const SqImage *strip, const SqImage *valid, SqBandsReading
         }
     const double explained = between + within > 0 ? between / (between + within) : 0;
     /* the normalised autocorrelation at each lag: two repeats at least in the strip */
-    const int lag_max = n / 2 < ROWS_PER_TILE * VIEW_MAX ? n / 2 : (int)(ROWS_PER_TILE * VIEW_MAX);
+    const int lag_max = n / 2 < ROWS_PER_TILE * SQ__VIEW_HI ? n / 2 : (int)(ROWS_PER_TILE * SQ__VIEW_HI);
     if (lag_max <= LAG_MIN + 1)
         goto done;
     for (int L = LAG_MIN - 1; L <= lag_max; L++) {

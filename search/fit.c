@@ -42,8 +42,7 @@ static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
  * re-scoring and the polish have the rest. */
 static const double SEARCH_END = 0.8;
 
-/* The view scale gene: log scale over the grid's range. */
-static const double VIEW_LO = 0.25, VIEW_HI = 8.0;
+/* The view scale gene: log scale over SQ__VIEW_LO..SQ__VIEW_HI. */
 
 static double view_to_x_in(double v, double lo, double hi)
 {
@@ -57,12 +56,12 @@ static double x_to_view_in(double x, double lo, double hi)
 
 static double view_to_x(double v)
 {
-    return view_to_x_in(v, VIEW_LO, VIEW_HI);
+    return view_to_x_in(v, SQ__VIEW_LO, SQ__VIEW_HI);
 }
 
 static double x_to_view(double x)
 {
-    return x_to_view_in(x, VIEW_LO, VIEW_HI);
+    return x_to_view_in(x, SQ__VIEW_LO, SQ__VIEW_HI);
 }
 
 static double now(void)
@@ -548,7 +547,7 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
     sq__genome_narrow(&g);
     int k = 0;
     for (int i = 0; i < nr; i++) {
-        if (rd[i].view_scale < VIEW_LO || rd[i].view_scale > VIEW_HI)
+        if (rd[i].view_scale < SQ__VIEW_LO || rd[i].view_scale > SQ__VIEW_HI)
             continue;
         for (int v = 0; v < SPOT_SIZES; v++) {
             SqFitCandidate *x = &c[k++];
@@ -849,8 +848,8 @@ static SqStatus niche_init(Fit *f, Niche *z, int category, const SqFitCandidate 
     z->n = z->g.n + 1;
     z->best = *start;
     z->recent.score = INFINITY;
-    z->view_lo = VIEW_LO;
-    z->view_hi = VIEW_HI;
+    z->view_lo = SQ__VIEW_LO;
+    z->view_hi = SQ__VIEW_HI;
     if (category == SQ_PATTERN_SPOTS)
         f->r->spots_held = hold_spot_lattice(f, z, start);
     double x0[SQ_GENOME_MAX + 1];

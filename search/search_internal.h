@@ -5,6 +5,10 @@
 #include "rng.h"
 #include "squama/params.h"
 
+/* The range of view scales the fit searches (body circumferences a texture tile), which
+ * the readings off the photo keep to as well. */
+static const double SQ__VIEW_LO = 0.25, SQ__VIEW_HI = 8.0;
+
 /* The colour parameters a category paints its pattern with (in the base's pattern,
  * &p->pattern, or a layer's), main colour first, into list (room for 4), NULL after the
  * last; returns how many. */
