@@ -1478,7 +1478,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
                           (const int(*)[2])body.runs);
     if (body.st != SQ_OK)
         FAIL(body.st, "mask", "%s%s", body.why,
-             out->mask_source == SQ_MASK_AUTOMATIC ? " (automatic mask: draw one and pass it with --mask)" : "");
+             out->mask_source == SQ_MASK_AUTOMATIC ? " (automatic mask: give a body line with --line, or draw a mask and pass it with --mask)" : "");
     const double r = body.r;
     const double step = 2 * THETA_MAX * r / SQ_FIT_STRIP_W; /* one strip pixel of skin */
 
