@@ -66,6 +66,10 @@ int main(int argc, char **argv)
     SqImage sheet = {0};
     char out[4096];
     double *ms = malloc(sizeof *ms * (size_t)n), *widths = malloc(sizeof *widths * (size_t)n);
+    if (!ms || !widths) {
+        fprintf(stderr, "bench_masks: out of memory\n");
+        return 1;
+    }
     int ok = 0, short_strips = 0;
     printf("%4s  %-44s %s\n", "cell", "photo", "body width px, stretches, strip rows, body widths | why not");
     for (int k = 0; k < n; k++) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 #include "cv_bridge.h"
@@ -79,6 +80,13 @@ extern "C" int sq__cv_backdrop_out(const float *rgb, int w, int h, uint8_t *mask
 {
     enum { K = 8 };
     try {
+        /* OpenCV (before 4.9) builds its CIELAB tables on the first conversion, unguarded:
+         * once, before any two threads convert at the same time */
+        static std::once_flag lab_tables;
+        std::call_once(lab_tables, [] {
+            cv::Mat one(1, 1, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5)), out;
+            cv::cvtColor(one, out, cv::COLOR_RGB2Lab);
+        });
         cv::Mat f(h, w, CV_32FC3, const_cast<float *>(rgb)), lab, labels, centres;
         cv::cvtColor(f, lab, cv::COLOR_RGB2Lab);
         cv::setRNGSeed(GRABCUT_SEED);
@@ -109,7 +117,7 @@ extern "C" int sq__cv_backdrop_out(const float *rgb, int w, int h, uint8_t *mask
             return 0;
         }
         std::nth_element(d.begin(), d.begin() + d.size() * 95 / 100, d.end());
-        const int r = std::max(1, (int)std::lround(1.5 * d[d.size() * 95 / 100]));
+        const int r = std::max(1, std::min((int)std::lround(1.5 * d[d.size() * 95 / 100]), std::max(w, h) / 8));
         cv::morphologyEx(cut, cut, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
         cv::bitwise_and(m, cut, m);
         return 0;

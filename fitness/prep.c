@@ -1229,26 +1229,31 @@ static void debug_candidate(const SqPrepOptions *o, int k, const char *what, dou
  * prepared before, 62 after, their median strip 2.5 body widths before, 3.4 after). Each
  * is analysed at the working size (the photo's) and judged by snake_likeness; the most
  * snake-like becomes *body, or when none is a body, the first, to say why. Returns 0, or
- * -1 when OpenCV failed or memory ran out.
+ * -1 when OpenCV failed or memory ran out for a GrabCut (a candidate with the backdrop
+ * out that could not be made is left out).
  * Tried and not kept (`scripts/bench masks` on the 75 photos of ../shared/photos, by eye):
  * the photo's six k-means colour regions as candidates too, as they are and as GrabCut's
  * start: they won with thin slivers, a stripe or a twig, on most photos, where the
  * rectangles had found the snake; and judging the candidates at half the working size
  * (26% faster): it changed the choice on 12 photos, better on one, worse on three. */
 enum { AUTO_SIDE = 400, AUTO_CANDIDATES = 3 };
-static const double AUTO_KEEP = 0.4;
+static const double AUTO_KEEP = 0.4, AUTO_COVER = 0.7;
 
 /* One GrabCut candidate and the same with the backdrop's colours out, each analysed, on a
- * thread of their own (GrabCut draws from OpenCV's per-thread generator, seeded in each
- * call: the mask is the same on any thread). The second is left out when it keeps less
- * than AUTO_KEEP of the first: a sliver of one of the body's colours (a stripe, a
- * highlight), which the likeness would take for a long thin body. */
+ * thread of their own (GrabCut and k-means draw from OpenCV's per-thread generator,
+ * seeded in each call: the masks are the same on any thread). The second is made only
+ * when the first covers at most AUTO_COVER of the photo (more is refused as no body
+ * anyway), and left out when it is the first again or keeps less than AUTO_KEEP of it: a
+ * sliver of one of the body's colours (a stripe, a highlight), which the likeness would
+ * take for a long thin body. Of the two the one more snake-like is kept (the first on a
+ * tie), the other freed. */
 typedef struct GrabJob {
     const float *small;
     int gw, gh, w, h, k, failed;
     uint8_t *mask[2];
     Body c[2];
     double score[2];
+    int made[2], kept; /* made: analysed; kept: which of them is kept */
 } GrabJob;
 
 static void *grab_candidate(void *arg)
@@ -1263,16 +1268,20 @@ static void *grab_candidate(void *arg)
         return NULL;
     analyse_candidate(j->mask[0], j->gw, j->gh, j->w, j->h, &j->c[0]);
     j->score[0] = snake_likeness(&j->c[0], j->w, j->h);
-    memcpy(j->mask[1], j->mask[0], gn);
+    j->made[0] = 1;
     size_t before = 0, after = 0;
-    if (sq__cv_backdrop_out(j->small, j->gw, j->gh, j->mask[1]) == 0)
-        for (size_t i = 0; i < gn; i++) {
-            before += j->mask[0][i] != 0;
+    for (size_t i = 0; i < gn; i++)
+        before += j->mask[0][i] != 0;
+    memcpy(j->mask[1], j->mask[0], gn);
+    if ((double)before <= AUTO_COVER * (double)gn && sq__cv_backdrop_out(j->small, j->gw, j->gh, j->mask[1]) == 0)
+        for (size_t i = 0; i < gn; i++)
             after += j->mask[1][i] != 0;
-        }
-    if (after > 0 && (double)after >= AUTO_KEEP * (double)before) {
+    if (after < before && (double)after >= AUTO_KEEP * (double)before) {
         analyse_candidate(j->mask[1], j->gw, j->gh, j->w, j->h, &j->c[1]);
         j->score[1] = snake_likeness(&j->c[1], j->w, j->h);
+        j->made[1] = 1;
+        j->kept = j->score[1] > j->score[0];
+        body_free(&j->c[!j->kept]);
     }
     return NULL;
 }
@@ -1309,10 +1318,12 @@ static int automatic_mask(const SqImage *photo, const SqPrepOptions *o, Body *bo
     double best = -1;
     for (int j = 0; !bad && j < 2 * ncand; j++) { /* the GrabCuts' first, then those with the backdrop out */
         const int k = j % ncand, v = j / ncand;
-        if (v == 1 && job[k].score[1] < 0 && !job[k].c[1].m8)
-            continue; /* left out */
+        if (!job[k].made[v])
+            continue;
         static const char *const what[2][2] = {{"rectangle", "salient"}, {"rectangle_backdrop_out", "salient_backdrop_out"}};
         debug_candidate(o, k + AUTO_CANDIDATES * v, what[v][k == 2], job[k].score[v], job[k].mask[v], gw, gh);
+        if (v != job[k].kept)
+            continue;
         if (job[k].score[v] > best || (best < 0 && !body->m8)) {
             best = job[k].score[v] > best ? job[k].score[v] : best;
             body_free(body);

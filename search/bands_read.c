@@ -105,7 +105,7 @@ typedef struct Runs {
 
 /* The runs of bins in [from, upto) not of colour `other`, each a band in its first bin's
  * colour; with `inner`, within each the runs not of that colour again (a band drawn over
- * a band). -1 when there are more than 2 SQ_BANDS_MAX. */
+ * a band). -1 when there are more than 2 * SQ_BANDS_MAX. */
 static int runs(Runs *r, int from, int upto, int other, int inner)
 {
     for (int i = from; i < upto;) {

@@ -42,8 +42,7 @@ static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
  * re-scoring and the polish have the rest. */
 static const double SEARCH_END = 0.8;
 
-/* The view scale gene: log scale over SQ__VIEW_LO..SQ__VIEW_HI. */
-
+/* The view scale gene: log scale over lo..hi (the niches': SQ__VIEW_LO..SQ__VIEW_HI). */
 static double view_to_x_in(double v, double lo, double hi)
 {
     return log(fmax(v, lo) / lo) / log(hi / lo);
