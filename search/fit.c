@@ -585,9 +585,9 @@ static int spot_candidates(Fit *f, SqFitCandidate *c)
     return k;
 }
 
-/* Transversal bands read off the photo's strip (sq_fit_read_bands), the first reading
- * (two colours; both readings share the repeat and the share explained) kept in the
- * result: none of it starts a screening candidate. Tried and not kept (session
+/* Transversal bands read off the photo's strip (sq_fit_read_bands), its first reading
+ * kept in the result (the repeat and the share explained are every reading's): none of
+ * it starts a screening candidate. Tried and not kept (session
  * 37): BANDS_VARIANTS = 4 candidates a reading (two colours and three), its bands, colours
  * and view scale, unturned, without warps, blur, contrast or colour noise, the other genes
  * drawn, when the best reading repeats 0.5 or more and its rows hold 0.75 or more of the
@@ -605,11 +605,11 @@ static void read_bands(Fit *f)
 {
     if (!f->o.strip || !fitted(&f->o, SQ_PATTERN_TRANSVERSAL))
         return;
-    SqBandsReading rd[2];
-    if (sq_fit_read_bands(f->o.strip, f->o.valid, rd, 2) > 0) {
-        f->r->bands_read_view_scale = rd[0].view_scale;
-        f->r->bands_read_corr = rd[0].corr;
-        f->r->bands_read_explained = rd[0].explained;
+    SqBandsReading rd;
+    if (sq_fit_read_bands(f->o.strip, f->o.valid, &rd, 1) > 0) {
+        f->r->bands_read_view_scale = rd.view_scale;
+        f->r->bands_read_corr = rd.corr;
+        f->r->bands_read_explained = rd.explained;
     }
 }
 
