@@ -278,7 +278,10 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "stripe, band or spot champion (an automaton champion: the best of those) is given "
                             "a layer of another type, searched with it held, and the layered skin leads when it "
                             "beats the champion by 20% and its layer is visible (it changes at least 5% of the "
-                            "band's texels by more than 5 CIEDE2000; layer_search)");
+                            "band's texels by more than 5 CIEDE2000; layer_search); last, the champion and each "
+                            "other kind's best have their colours moved toward the photo's palette, kept when "
+                            "that scores better (kinds.KIND.recoloured) and, for the champion, still shows its "
+                            "pattern: the category stays the pick's");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);

@@ -77,7 +77,8 @@ static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, cons
         sq_io_draw_text(&img, PAD, y + 18, 13, sq_fit_kind_name(k), c, &terr);
         sq_io_draw_text(&img, PAD, y + 34, 11, gloss(k), grey, &terr);
         snprintf(t, sizeof t, "score %.3f%s", r->kind_best[k].score,
-                 k == champion ? ", best.json" : r->kind_recoloured[k] ? ", recoloured" : "");
+                 k == champion ? (r->kind_recoloured[k] ? ", best.json, recoloured" : ", best.json")
+                 : r->kind_recoloured[k] ? ", recoloured" : "");
         sq_io_draw_text(&img, PAD, y + 50, 11, t, c, &terr);
     }
     if (!labelled)

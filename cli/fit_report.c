@@ -197,17 +197,23 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
     cli_buf_put(&b, "<figure><a href='kinds.png'><img class='wide' src='kinds.png' alt='each kind&#39;s best'></a>"
             "<figcaption>The straightened body and, under it, each kind's best fit seen the same way (the first "
             "twelve body widths); best.json's kind in green. Each is a preset in kinds/; a <em>recoloured</em> one had its "
-            "colours moved toward the photo's palette after the pick, and scores better so.</figcaption></figure>\n");
-    cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>preset</th><th>view scale</th>"
+            "colours moved toward the photo's palette after the pick, and scores better so. The pick compared the "
+            "kinds before that (the table's \"at the pick\"), so another kind may now score better than best.json's "
+            "and still not be chosen.</figcaption></figure>\n");
+    cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>at the pick</th><th>preset</th><th>view scale</th>"
             "<th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {
         const SqFitCandidate *k = &r->kind_best[c];
         if (!isfinite(k->score))
             continue;
-        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td class='l'><a href='kinds/%s.json'>kinds/%s.json</a>%s</td>"
+        char pick[32] = "";
+        if (isfinite(r->category_score[c]))
+            snprintf(pick, sizeof pick, "%.3f", r->category_score[c]);
+        cli_buf_put(&b, "<tr><td class='l'>%s</td><td>%.3f</td><td>%s</td><td class='l'><a href='kinds/%s.json'>kinds/%s.json</a>%s</td>"
                 "<td>%.2f</td><td class='l'>",
-            sq_fit_kind_name(c), k->score, sq_fit_kind_name(c), sq_fit_kind_name(c),
-            c == sq_fit_kind_of(&r->best.params) ? " (best.json)" : r->kind_recoloured[c] ? " (recoloured)" : "",
+            sq_fit_kind_name(c), k->score, pick, sq_fit_kind_name(c), sq_fit_kind_name(c),
+            c == sq_fit_kind_of(&r->best.params) ? (r->kind_recoloured[c] ? " (best.json, recoloured)" : " (best.json)")
+            : r->kind_recoloured[c] ? " (recoloured)" : "",
             k->view_scale);
         if (r->survivor[c])
             cli_buf_put(&b, "to the end");
@@ -233,7 +239,7 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         cli_buf_put(&b, "<td>%.3f</td></tr>\n", r->front[i].score);
     }
     cli_buf_put(&b, "</table>\n<p>Timings: the photo read and prepared %.1f s; screen %.1f s, evolve %.1f s, re-score %.1f s, "
-            "layer %.1f s, polish %.1f s, the alternatives recoloured %.1f s; the outputs written %.1f s. All numbers are "
+            "layer %.1f s, polish %.1f s, the kinds recoloured %.1f s; the outputs written %.1f s. All numbers are "
             "in <a href='fit.json'>fit.json</a>.</p>\n</body></html>\n",
         prepare_s, r->seconds[0], r->seconds[1], r->seconds[2], r->layer_seconds, r->seconds[3], r->recolour_seconds,
         total_s - prepare_s - search_s);

@@ -1067,14 +1067,15 @@ static double rounds(const Fit *f, int n)
 
 /* What a time budget keeps back for what follows the polish, at `per` seconds a round of
  * fine renders on every thread (the re-scoring's pace): the polish's re-score and the
- * plain twin's, and the alternatives' recolouring: a render, SQ_RECOLOUR_WAYS renders and a
- * re-score for each other kind (recolour_kinds), counted for every kind fitted and a
- * layered skin. So the whole fit ends within its budget, not that much after it. */
+ * plain twin's, and the kinds' recolouring: a render, SQ_RECOLOUR_WAYS renders and a
+ * re-score for each kind's best (recolour_kinds), counted for every kind fitted and the
+ * layered skin the layer over the champion makes. So the whole fit ends within its budget,
+ * not that much after it. */
 static double tail_seconds(const Fit *f, double per)
 {
-    const int others = ncategories(&f->o);
-    return per * (2 * rounds(f, f->o.reseeds) + rounds(f, others) + rounds(f, others * SQ_RECOLOUR_WAYS) +
-                  rounds(f, others * f->o.reseeds));
+    const int kinds = ncategories(&f->o) + !fitted(&f->o, SQ_FIT_LAYERED);
+    return per * (2 * rounds(f, f->o.reseeds) + rounds(f, kinds) + rounds(f, kinds * SQ_RECOLOUR_WAYS) +
+                  rounds(f, kinds * f->o.reseeds));
 }
 
 /* The finalists: over `reseeds` seeds at the fine size. */
@@ -1805,6 +1806,19 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
     return SQ_OK;
 }
 
+/* c, the champion changed after the pick (polished, recoloured), leads the front as
+ * best.json; whoever it dominates leaves the front, but for a plain twin's invisible
+ * pattern behind it (plain_twin). */
+static void lead_front(SqFitResult *r, const SqFitCandidate *c)
+{
+    int k = 1;
+    for (int i = 1; i < r->nfront; i++)
+        if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(c->obj, r->front[i].obj, SQ_OBJ_COUNT))
+            r->front[k++] = r->front[i];
+    r->nfront = k;
+    r->front[0] = r->best = *c;
+}
+
 /* Candidates' colours moved toward the photo's palette (sq__recoloured), each way scored
  * at the fine size with the candidate's own seed: better[i] the best way when it scores
  * better than c[i] does there, else its score INFINITY. 1 + SQ_RECOLOUR_WAYS evaluations a
@@ -1849,18 +1863,20 @@ static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *bet
     free(feat);
 }
 
-/* The alternatives recoloured once the champion is picked: each kind's best but the
- * champion's kind's, its colours moved toward the photo's palette three ways and scored at
- * the fine size with its own seed; the best way, when it scores better there, is re-scored
- * as the finalists were and replaces the kind's best when it scores better so too. A
- * niche's CMA-ES moves every colour with every other gene, and colours settle slowly: on
- * the recovery benchmark's wrong rows the truth's kind's best always scored worse than the
- * truth on the palette objective (docs/recovery.md, session 28), so the alternatives a
- * user is handed were often the right pattern in the wrong colours. Not before the pick:
- * recoloured niches lost more categories than they gained (a pattern aimed at the photo's
- * palette imitates a plain skin's shading). It comes after the search: up to
- * (SQ_FIT_KINDS - 1) * (1 + SQ_RECOLOUR_WAYS + reseeds) renders at the fine size, beyond
- * an evaluation budget; a time budget kept their time back (tail_seconds). */
+/* Every kind's best recoloured once the champion is picked: its colours moved toward the
+ * photo's palette three ways and scored at the fine size with its own seed; the best way,
+ * when it scores better there, is re-scored as the finalists were and replaces the kind's
+ * best when it scores better so too. A niche's CMA-ES moves every colour with every other
+ * gene, and colours settle slowly: on the recovery benchmark's wrong rows the truth's kind's
+ * best always scored worse than the truth on the palette objective (docs/recovery.md,
+ * session 28), so the alternatives a user is handed were often the right pattern in the
+ * wrong colours; and on real photos the champion too (the polish moves its colours little).
+ * Not before the pick: recoloured niches lost more categories than they gained (a pattern
+ * aimed at the photo's palette imitates a plain skin's shading); after it, the category
+ * stays the pick's. The champion, recoloured, must still show what it showed: a visible
+ * pattern stays visible, a layer stays LAYER_VISIBLE. It comes after the search: up to
+ * SQ_FIT_KINDS * (1 + SQ_RECOLOUR_WAYS + reseeds) renders at the fine size, beyond an
+ * evaluation budget; a time budget kept their time back (tail_seconds). */
 static void recolour_kinds(Fit *f, int champion)
 {
     SqFitResult *r = f->r;
@@ -1871,7 +1887,7 @@ static void recolour_kinds(Fit *f, int champion)
     SqFitCandidate c[SQ_FIT_KINDS], better[SQ_FIT_KINDS];
     int kind[SQ_FIT_KINDS], n = 0;
     for (int k = 0; k < SQ_FIT_KINDS; k++)
-        if (k != champion && isfinite(r->kind_best[k].score)) {
+        if (isfinite(r->kind_best[k].score)) {
             kind[n] = k;
             c[n++] = r->kind_best[k];
         }
@@ -1883,13 +1899,24 @@ static void recolour_kinds(Fit *f, int champion)
             kind[m++] = kind[i];
         }
     rescore(f, better, m);
-    for (int i = 0; i < m; i++)
-        if (better[i].score < r->kind_best[kind[i]].score &&
-            (kind[i] != SQ_FIT_LAYERED || /* a layer recoloured into its ground is none */
-             sq_fit_layer_visibility(&better[i].params, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE)) {
-            r->kind_best[kind[i]] = better[i];
-            r->kind_recoloured[kind[i]] = 1;
+    for (int i = 0; i < m; i++) {
+        const SqParams *p = &better[i].params;
+        double vis = -1, dom[3];
+        if (!(better[i].score < r->kind_best[kind[i]].score))
+            continue;
+        if (kind[i] == SQ_FIT_LAYERED && /* a layer recoloured into its ground is none */
+            !(sq_fit_layer_visibility(p, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE))
+            continue;
+        if (kind[i] == champion && r->visibility >= VISIBLE_MIN && /* nor a pattern into its skin */
+            !((vis = sq_fit_pattern_visibility(p, f->o.fine_size, f->o.band_centre, dom, NULL)) >= VISIBLE_MIN))
+            continue;
+        r->kind_best[kind[i]] = better[i];
+        r->kind_recoloured[kind[i]] = 1;
+        if (kind[i] == champion) {
+            lead_front(r, &better[i]);
+            r->visibility = vis >= 0 ? vis : r->visibility;
         }
+    }
     r->recolour_evals = f->evals - e0;
     r->recolour_seconds = now() - t;
 }
@@ -2071,14 +2098,10 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     }
     if (o->polish && o->method == SQ_FIT_SQUAMA && !out->stopped) {
         t = now();
-        polish(&f, &out->best);
-        if (out->polish_kept) { /* the polished champion leads; whoever it dominates leaves */
-            int k = 1;
-            for (int i = 1; i < out->nfront; i++)
-                if (!sq_pareto_dominates(out->best.obj, out->front[i].obj, SQ_OBJ_COUNT))
-                    out->front[k++] = out->front[i];
-            out->nfront = k;
-        }
+        SqFitCandidate champ = out->best;
+        polish(&f, &champ);
+        if (out->polish_kept)
+            lead_front(out, &champ);
         out->front[0] = out->best;
         out->seconds[3] = now() - t;
         report(&f, "polish", sq_fit_kind_of(&out->best.params));

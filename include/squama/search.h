@@ -398,9 +398,9 @@ typedef struct SqFitResult {
                                                best finalist or front member (after the
                                                polish) of the kind; no layered skin whose
                                                layer does not show */
-    int kind_recoloured[SQ_FIT_KINDS]; /* 1: this kind's best, not best.json's kind, had its
-                                          colours moved toward the photo's palette after
-                                          the pick, and scores better so */
+    int kind_recoloured[SQ_FIT_KINDS]; /* 1: this kind's best (best.json for its own kind)
+                                          had its colours moved toward the photo's palette
+                                          after the pick, and scores better so */
     long recolour_evals;     /* the evaluations that recolouring took, beyond evals */
     double recolour_seconds; /* and the time */
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
