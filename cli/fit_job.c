@@ -256,7 +256,7 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     for (int i = 0; i < SQ_FIT_STAGES; i++)
         cJSON_AddNumberToObject(ti, stages[i], r->seconds[i]);
     cJSON_AddNumberToObject(ti, "layer", r->layer_seconds); /* between the re-scoring and the polish */
-    cJSON_AddNumberToObject(ti, "recolour", r->recolour_seconds); /* the alternatives, after the polish */
+    cJSON_AddNumberToObject(ti, "recolour", r->recolour_seconds); /* every kind's best, after the polish */
     cJSON_AddNumberToObject(se, "recolour_evaluations", (double)r->recolour_evals); /* beyond evaluations */
     cJSON_AddNumberToObject(ti, "search", clock->search);
     cJSON_AddNumberToObject(ti, "prepare", clock->prepare); /* reading and preparing the photo */
@@ -280,8 +280,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
                             "beats the champion by 20% and its layer is visible (it changes at least 5% of the "
                             "band's texels by more than 5 CIEDE2000; layer_search); last, the champion and each "
                             "other kind's best have their colours moved toward the photo's palette, kept when "
-                            "that scores better (kinds.KIND.recoloured) and, for the champion, still shows its "
-                            "pattern: the category stays the pick's");
+                            "that scores better (kinds.KIND.recoloured; recolour) and, for the champion, when a "
+                            "pattern or layer that showed still shows: the category stays the pick's");
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);
@@ -369,6 +369,13 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddItemToObject(po, "score_before", sq__json_exact_number(r->polish_before));
     cJSON_AddItemToObject(po, "score_after", sq__json_exact_number(r->polish_after));
     cJSON_AddBoolToObject(po, "kept", r->polish_kept);
+    if (r->recolour_before > 0) { /* the champion's colours moved toward the photo's palette, after the polish */
+        cJSON *rc = cJSON_AddObjectToObject(root, "recolour");
+        cJSON_AddItemToObject(rc, "score_before", sq__json_exact_number(r->recolour_before));
+        if (r->recolour_after > 0)
+            cJSON_AddItemToObject(rc, "score_after", sq__json_exact_number(r->recolour_after));
+        cJSON_AddBoolToObject(rc, "kept", r->kind_recoloured[sq_fit_kind_of(&r->best.params)]);
+    }
     cJSON *fr = cJSON_AddArrayToObject(root, "front");
     for (int i = 0; i < r->nfront; i++) {
         cJSON *e = cJSON_CreateObject();

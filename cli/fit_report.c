@@ -161,10 +161,14 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
                 "colour), but its plain twin scored %.3f, more than 5%% worse: the pattern stays. ",
             100 * r->visibility, r->twin_score);
     if (r->polish_before > 0)
-        cli_buf_put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).</p>\n", r->polish_before, r->polish_after,
+        cli_buf_put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");
     else
-        cli_buf_put(&b, "The nlopt polish did not run (%s).</p>\n", r->stopped ? "stopped early" : "no budget left");
+        cli_buf_put(&b, "The nlopt polish did not run (%s).", r->stopped ? "stopped early" : "no budget left");
+    if (r->kind_recoloured[sq_fit_kind_of(&r->best.params)])
+        cli_buf_put(&b, " Its colours, moved toward the photo's palette, took it from %.3f to %.3f.", r->recolour_before,
+            r->recolour_after);
+    cli_buf_put(&b, "</p>\n");
     cli_buf_put(&b, "<h2>Categories</h2>\n");
     if (r->read_corr != 0)
         cli_buf_put(&b, "<p>The photo's strip repeats along the body every %.0f strip rows (view scale %.2f). "

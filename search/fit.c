@@ -1899,33 +1899,41 @@ static void recolour_kinds(Fit *f, int champion)
             kind[m++] = kind[i];
         }
     rescore(f, better, m);
+    r->recolour_before = r->best.score;
     for (int i = 0; i < m; i++) {
         const SqParams *p = &better[i].params;
-        double vis = -1, dom[3];
+        if (kind[i] == champion)
+            r->recolour_after = better[i].score;
         if (!(better[i].score < r->kind_best[kind[i]].score))
             continue;
         if (kind[i] == SQ_FIT_LAYERED && /* a layer recoloured into its ground is none */
             !(sq_fit_layer_visibility(p, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE))
             continue;
-        if (kind[i] == champion && r->visibility >= VISIBLE_MIN && /* nor a pattern into its skin */
-            !((vis = sq_fit_pattern_visibility(p, f->o.fine_size, f->o.band_centre, dom, NULL)) >= VISIBLE_MIN))
+        /* nor a pattern that showed into its skin; a plain champion (a plain twin's
+         * visibility is its invisible pattern's) keeps its visibility */
+        const int patterned = p->Pattern_Type != SQ_PATTERN_NONE || p->Pattern_Layers.count > 0;
+        double vis = r->visibility, dom[3];
+        if (kind[i] == champion && patterned &&
+            (vis = sq_fit_pattern_visibility(p, f->o.fine_size, f->o.band_centre, dom, NULL)) < VISIBLE_MIN &&
+            r->visibility >= VISIBLE_MIN)
             continue;
         r->kind_best[kind[i]] = better[i];
         r->kind_recoloured[kind[i]] = 1;
         if (kind[i] == champion) {
             lead_front(r, &better[i]);
-            r->visibility = vis >= 0 ? vis : r->visibility;
+            r->visibility = vis;
         }
     }
     r->recolour_evals = f->evals - e0;
     r->recolour_seconds = now() - t;
 }
 
-/* Each kind's best once the champion is final: the front's members after the polish and
+/* Each kind's best once the champion is polished: the front's members after the polish and
  * the plain twin count too (the polished pattern behind its plain twin is its kind's best),
  * the champion stands for its own kind (best.json), and a layered skin whose layer does not
- * show (LAYER_VISIBLE, as the layered champion's must) is none; then the others are
- * recoloured (recolour_kinds). The category scores stay the ones the pick compared. */
+ * show (LAYER_VISIBLE, as the layered champion's must) is none; then every kind's best,
+ * the champion's included, is recoloured (recolour_kinds). The category scores stay the
+ * ones the pick compared. */
 static void kinds_final(Fit *f)
 {
     SqFitResult *r = f->r;
@@ -2107,7 +2115,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         report(&f, "polish", sq_fit_kind_of(&out->best.params));
     }
     plain_twin(&f);
-    out->evals = f.evals; /* the search's: the alternatives' recolouring comes beyond it */
+    out->evals = f.evals; /* the search's: the kinds' recolouring comes beyond it */
     kinds_final(&f);
 
 done:

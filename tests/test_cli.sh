@@ -280,6 +280,11 @@ for kind, e in k.items():
 # the kinds' recolouring, beyond an evaluation budget: each kind tried once, best.json's too (4 renders, and
 # the re-scoring of the better ones over 4 seeds)
 assert len(k) * 4 <= s["recolour_evaluations"] <= len(k) * 8 and s["seconds"]["recolour"] >= 0, s
+rc = f["recolour"]  # best.json's own: kept exactly when its recoloured way scored better, and then it is best.json
+assert rc["score_before"] > 0 and rc["kept"] == k[f["category"]]["recoloured"], rc
+assert not rc["kept"] or (rc["score_after"] == f["score"] < rc["score_before"]), (rc, f["score"])
+assert rc["kept"] or f["score"] == rc["score_before"], (rc, f["score"])
+assert f["front"][0]["score"] == f["score"] and f["front"][0]["category"] == f["category"], f["front"][0]
 png = open(os.path.join(here, "kinds.png"), "rb").read(24)  # a row for the photo and each kind
 assert png[:8] == b"\x89PNG\r\n\x1a\n" and struct.unpack(">I", png[20:24])[0] == 20 + (1 + len(k)) * 72 - 8
 d = f["drops"]  # the niches dropped, in order, none of them a survivor

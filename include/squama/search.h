@@ -293,11 +293,12 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     nlopt's SBPLX and kept polished only when the re-scored polish is better; a champion
  *     whose pattern nobody can see becomes its plain twin (sq_fit_pattern_visibility)
  *     unless the twin scores more than 5% worse;
- *  4. the alternatives: each other kind's best (SqFitResult.kind_best) with its colours
+ *  4. every kind's best (SqFitResult.kind_best), the champion's included, with its colours
  *     moved toward the photo's palette three ways, kept when it scores better re-scored
- *     (after the search and the champion untouched; beyond an evaluation budget, within a
- *     time budget: the layer search and the polish leave it the time, at the pace the
- *     re-scoring's fine renders went).
+ *     (the champion's only when a pattern that showed still shows, and a layer; its
+ *     category stays the pick's; beyond an evaluation budget, within a time budget: the
+ *     layer search and the polish leave it the time, at the pace the re-scoring's fine
+ *     renders went).
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
@@ -415,6 +416,9 @@ typedef struct SqFitResult {
     int stopped;             /* 1: the caller stopped the fit early */
     double polish_before, polish_after; /* champion score before and after the polish */
     int polish_kept;
+    double recolour_before, recolour_after; /* the champion's score before its recolouring
+                                               and its best recoloured way's, re-scored (0:
+                                               none scored better where it was tried) */
     double visibility;       /* the fitted pattern's visibility (sq_fit_pattern_visibility) */
     int plain_twin;          /* 1: it was invisible, and the champion is its plain twin */
     int plain_of_pattern;    /* 1: a plain skin led (PLAIN_PARSIMONY), and the plain twin of
