@@ -1911,12 +1911,13 @@ static void recolour_kinds(Fit *f, int champion)
             continue;
         /* nor a pattern that showed into its skin; a plain champion (a plain twin's
          * visibility is its invisible pattern's) keeps its visibility */
-        const int patterned = p->Pattern_Type != SQ_PATTERN_NONE || p->Pattern_Layers.count > 0;
-        double vis = r->visibility, dom[3];
-        if (kind[i] == champion && patterned &&
-            (vis = sq_fit_pattern_visibility(p, f->o.fine_size, f->o.band_centre, dom, NULL)) < VISIBLE_MIN &&
-            r->visibility >= VISIBLE_MIN)
-            continue;
+        double vis = r->visibility;
+        if (kind[i] == champion && champion != SQ_PATTERN_NONE) {
+            double dom[3];
+            vis = sq_fit_pattern_visibility(p, f->o.fine_size, f->o.band_centre, dom, NULL);
+            if (vis < VISIBLE_MIN && r->visibility >= VISIBLE_MIN)
+                continue;
+        }
         r->kind_best[kind[i]] = better[i];
         r->kind_recoloured[kind[i]] = 1;
         if (kind[i] == champion) {
