@@ -79,6 +79,14 @@ static const SqParamSpec table[] = {
     TRANSVERSAL(2, 0.90, 0.85, 0.60, 1.0, 1.0),
     TRANSVERSAL(3, 0.80, 0.10, 0.05, 1.0, 1.0),
     TRANSVERSAL(4, 0.20, 0.20, 0.80, 1.0, 1.0),
+    {.name = "Transversal_ZigzagAmplitude", .type = SQ_PT_FLOAT,
+     .offset = F(Transversal_ZigzagAmplitude), .def = {0}, .min = 0, .max = 0.5, .smin = 0,
+     .smax = 0.2, .group = "transversal", .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5",
+     .help = "rings zig-zag along the body by this fraction of the length either way; 0 straight"},
+    {.name = "Transversal_ZigzagCount", .type = SQ_PT_INT,
+     .offset = F(Transversal_ZigzagCount), .def = {1}, .min = 1, .max = 64, .smin = 1,
+     .smax = 8, .group = "transversal", .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5",
+     .help = "zig-zag periods round the body, a peak on the dorsal midline; 1 makes chevrons"},
 
     /* ---- longitudinal stripes ---- */
     {.name = "Longitudinal_NumberOfStripes", .type = SQ_PT_INT,

@@ -188,6 +188,59 @@ static void longitudinal_zigzag_follows_a_triangle_wave(void **state)
     sq_gen_textures_free(&t);
 }
 
+/* The rings' zig-zag: every column holds the one band, its centre follows a triangle wave
+ * of u with the amplitude and count asked for (a peak on the dorsal midline), each column
+ * still covers the band's length, and u = 0 meets u = 1. A band that wraps over the
+ * texture's top and bottom edges wraps as it did. */
+static void transversal_zigzag_follows_a_triangle_wave(void **state)
+{
+    (void)state;
+    enum { W = 256, H = 256 };
+    SqParams p = base(SQ_PATTERN_TRANSVERSAL);
+    for (int i = 1; i < 4; i++)
+        p.Transversal_BeginEnd[i][0] = p.Transversal_BeginEnd[i][1] = 1;
+    p.Transversal_Color[0][0] = p.Transversal_Color[0][1] = p.Transversal_Color[0][2] = 1;
+    p.Transversal_BeginEnd[0][0] = 0.4;
+    p.Transversal_BeginEnd[0][1] = 0.6;
+    p.Transversal_ZigzagAmplitude = 0.1;
+    p.Transversal_ZigzagCount = 3;
+    SqTextures t;
+    render(&p, W, &t);
+    double lo = 1, hi = 0;
+    for (int x = 0; x < W; x++) {
+        double m = 0, s = 0;
+        for (int y = 0; y < H; y++) {
+            const double v = t.basecolor.px[((size_t)y * W + x) * 3];
+            m += v * (y + 0.5);
+            s += v;
+        }
+        const double c = m / s / H, tw = ((x + 0.5) / W - 0.5) * 3 + 0.5, f = tw - floor(tw);
+        const double want = 0.5 + 0.1 * (f < 0.5 ? 4 * f - 1 : 3 - 4 * f);
+        if (fabs(c - want) > 0.005 || fabs(s / H - 0.2) > 0.005)
+            fail_msg("column %d: band centre %.4f and length %.4f; the triangle wave says %.4f and 0.2", x, c,
+                     s / H, want);
+        lo = c < lo ? c : lo;
+        hi = c > hi ? c : hi;
+    }
+    assert_true(hi - lo > 0.19); /* twice the amplitude */
+    double d = 0;
+    for (int y = 0; y < H; y++)
+        d += fabs(t.basecolor.px[(size_t)y * W * 3] - t.basecolor.px[((size_t)y * W + W - 1) * 3]);
+    assert_true(d / H < 0.05);
+    /* a band over the top and bottom edges: each column still covers its length */
+    p.Transversal_BeginEnd[0][0] = 0.9;
+    p.Transversal_BeginEnd[0][1] = 0.05;
+    render(&p, W, &t);
+    for (int x = 0; x < W; x += 17) {
+        double s = 0;
+        for (int y = 0; y < H; y++)
+            s += t.basecolor.px[((size_t)y * W + x) * 3];
+        if (fabs(s / H - 0.15) > 0.005)
+            fail_msg("column %d: a wrapping band covers %.4f of it, not 0.15", x, s / H);
+    }
+    sq_gen_textures_free(&t);
+}
+
 /* Connected components of coverage > 0.5, wrapping at the edges (4-neighbours). */
 static int count_blobs(const float *cov, int w, int h)
 {
@@ -393,6 +446,7 @@ int main(void)
         cmocka_unit_test(longitudinal_n_stripes_n_runs),
         cmocka_unit_test(longitudinal_pinch_and_width),
         cmocka_unit_test(longitudinal_zigzag_follows_a_triangle_wave),
+        cmocka_unit_test(transversal_zigzag_follows_a_triangle_wave),
         cmocka_unit_test(spot_count_matches_tiling),
         cmocka_unit_test(spot_shape_follows_interstice),
         cmocka_unit_test(ca_rows_follow_the_rules),

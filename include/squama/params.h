@@ -66,6 +66,8 @@ typedef enum SqScalesLayout {
     /* transversal stripes (§4.2.1) */                                                     \
     double Transversal_Color[4][4];                                                        \
     double Transversal_BeginEnd[4][2];                                                     \
+    double Transversal_ZigzagAmplitude;                                                    \
+    int Transversal_ZigzagCount;                                                           \
                                                                                            \
     /* longitudinal stripes (§4.2.2) */                                                    \
     int Longitudinal_NumberOfStripes;                                                      \
