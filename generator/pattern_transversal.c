@@ -8,6 +8,7 @@
  * on the dorsal midline, a whole number of periods round the body so that u = 0 meets
  * u = 1; one period makes chevrons. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "gen_internal.h"
 
@@ -39,34 +40,55 @@ static double span_coverage(double y0, double y1, double b0, double b1)
     return c;
 }
 
-/* The triangle wave of u (-1 to 1, count periods, +1 at u = 0.5) at column x's centre. */
-static double zigzag_wave(int x, int w, int count)
+/* The triangle wave of u (-1 to 1, count periods, +1 at u = 0.5). */
+static double zigzag_wave(double u, int count)
 {
-    const double t = ((x + 0.5) / w - 0.5) * count + 0.5, f = t - floor(t);
+    const double t = (u - 0.5) * count + 0.5, f = t - floor(t);
     return f < 0.5 ? 4.0 * f - 1.0 : 3.0 - 4.0 * f;
 }
 
+enum { ZIGZAG_SUB_MAX = 16 }; /* sub-columns a pixel column, at most */
+
+/* Each pixel's coverage is exact along v for a shift, and the mean over sub-columns
+ * across: as many as make the shift change by at most half a pixel from one to the next,
+ * so that a steep edge is smooth instead of a staircase of columns and a zig-zag finer
+ * than the pixels averages out instead of aliasing. */
 static SqStatus zigzag(const SqParams *p, SqPattern *pat, SqError *err)
 {
-    const int w = pat->w, h = pat->h;
+    const int w = pat->w, h = pat->h, count = p->Transversal_ZigzagCount;
     const double a = p->Transversal_ZigzagAmplitude;
+    const double step = 4.0 * a * count * h / w; /* pixels along, per column across */
+    const int n = (int)fmin(ZIGZAG_SUB_MAX, fmax(1, ceil(2 * step)));
+    double *shift = malloc(sizeof(double) * (size_t)w * n);
+    if (!shift)
+        return sq_error_set(err, SQ_ERR_NOMEM, "pattern", "out of memory for the rings' zig-zag");
+    for (int x = 0; x < w; x++)
+        for (int j = 0; j < n; j++)
+            shift[(size_t)x * n + j] = a * zigzag_wave((x + (j + 0.5) / n) / w, count);
     for (int i = 0; i < 4; i++) {
         const double b0 = p->Transversal_BeginEnd[i][0], b1 = p->Transversal_BeginEnd[i][1];
         if (p->Transversal_Color[i][3] <= 0.0 || b0 == b1)
             continue;
         SqLayer *l = sq__pattern_add(pat, SQ_LAYER_2D, p->Transversal_Color[i], err);
-        if (!l)
+        if (!l) {
+            free(shift);
             return err ? err->status : SQ_ERR_NOMEM;
+        }
 #pragma omp parallel for schedule(static)
-        for (int x = 0; x < w; x++) {
-            const double s = a * zigzag_wave(x, w, p->Transversal_ZigzagCount);
-            for (int y = 0; y < h; y++) {
-                double y0 = (double)y / h - s;
-                y0 -= floor(y0);
-                l->cov[(size_t)y * w + x] = (float)(span_coverage(y0, y0 + 1.0 / h, b0, b1) * h);
+        for (int y = 0; y < h; y++) {
+            float *row = l->cov + (size_t)y * w;
+            for (int x = 0; x < w; x++) {
+                double c = 0;
+                for (int j = 0; j < n; j++) {
+                    double y0 = (double)y / h - shift[(size_t)x * n + j];
+                    y0 -= floor(y0);
+                    c += span_coverage(y0, y0 + 1.0 / h, b0, b1);
+                }
+                row[x] = (float)(c * h / n);
             }
         }
     }
+    free(shift);
     return SQ_OK;
 }
 
