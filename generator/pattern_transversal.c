@@ -2,11 +2,11 @@
  * (later colours occlude earlier ones). A colour is omitted by alpha 0 or begin = end;
  * begin > end makes a band that wraps over the texture's top and bottom edges.
  *
- * Optionally zig-zagged round the body (Transversal_ZigzagAmplitude, squama's addition:
- * real rings seldom run square across a photo's straightened strip, and vipers' crossbands
- * are chevrons): column x's rings shifted along v by a triangle wave of u, its first peak
- * on the dorsal midline, a whole number of periods round the body so that u = 0 meets
- * u = 1; one period makes chevrons. */
+ * Optionally zig-zagged round the body (Transversal_ZigzagAmplitude, squama's addition for
+ * vipers' chevron crossbands and rings serrated along the scale rows; the fit does not
+ * search it, docs/recovery.md session 40): column x's rings shifted along v by a triangle
+ * wave of u, its first peak on the dorsal midline, a whole number of periods round the
+ * body so that u = 0 meets u = 1; one period makes chevrons. */
 #include <math.h>
 #include <stdlib.h>
 
