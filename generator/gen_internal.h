@@ -72,6 +72,13 @@ static inline int sq__ifloor(float x)
     return i - (x < (float)i);
 }
 
+/* The triangle wave of period 1: -1 at whole t, +1 half way between (the zig-zags). */
+static inline double sq__triangle(double t)
+{
+    const double f = t - floor(t);
+    return f < 0.5 ? 4.0 * f - 1.0 : 3.0 - 4.0 * f;
+}
+
 static inline float sq__clamp01(float x)
 {
     return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x);

@@ -56,9 +56,7 @@ static SqStatus zigzag(const SqParams *p, SqPattern *pat, SqError *err)
     const double a = p->Longitudinal_ZigzagAmplitude;
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < h; y++) {
-        const double t = ((double)y + 0.5) / h * p->Longitudinal_ZigzagCount;
-        const double f = t - floor(t);
-        const double shift = a * (f < 0.5 ? 4.0 * f - 1.0 : 3.0 - 4.0 * f);
+        const double shift = a * sq__triangle(((double)y + 0.5) / h * p->Longitudinal_ZigzagCount);
         for (int x = 0; x < w; x++) {
             double u0 = (double)x / w - shift;
             u0 -= floor(u0);

@@ -19,19 +19,8 @@ static double overlap(double a, double b, double lo, double hi)
     return e > s ? e - s : 0.0;
 }
 
-/* Fraction of pixel row y (of h) covered by the band [b0, b1) (wrapping if b0 > b1). */
-double sq__band_coverage(int y, int h, double b0, double b1)
-{
-    double y0 = (double)y / h, y1 = (double)(y + 1) / h, c;
-    if (b0 <= b1)
-        c = overlap(y0, y1, b0, b1);
-    else
-        c = overlap(y0, y1, b0, 1.0) + overlap(y0, y1, 0.0, b1);
-    return c * h;
-}
-
 /* Length of the span [y0, y1) (y1 - y0 <= 1, y0 in [0, 1)) covered by the band [b0, b1),
- * wrapping at 1 as the texture does. */
+ * wrapping at 1 as the texture does (begin > end: over the top and bottom edges). */
 static double span_coverage(double y0, double y1, double b0, double b1)
 {
     double c = 0;
@@ -40,11 +29,10 @@ static double span_coverage(double y0, double y1, double b0, double b1)
     return c;
 }
 
-/* The triangle wave of u (-1 to 1, count periods, +1 at u = 0.5). */
-static double zigzag_wave(double u, int count)
+/* Fraction of pixel row y (of h) covered by the band [b0, b1) (wrapping if b0 > b1). */
+double sq__band_coverage(int y, int h, double b0, double b1)
 {
-    const double t = (u - 0.5) * count + 0.5, f = t - floor(t);
-    return f < 0.5 ? 4.0 * f - 1.0 : 3.0 - 4.0 * f;
+    return span_coverage((double)y / h, (double)(y + 1) / h, b0, b1) * h;
 }
 
 enum { ZIGZAG_SUB_MAX = 16 }; /* sub-columns a pixel column, at most */
@@ -64,7 +52,7 @@ static SqStatus zigzag(const SqParams *p, SqPattern *pat, SqError *err)
         return sq_error_set(err, SQ_ERR_NOMEM, "pattern", "out of memory for the rings' zig-zag");
     for (int x = 0; x < w; x++)
         for (int j = 0; j < n; j++)
-            shift[(size_t)x * n + j] = a * zigzag_wave((x + (j + 0.5) / n) / w, count);
+            shift[(size_t)x * n + j] = a * sq__triangle(((x + (j + 0.5) / n) / w - 0.5) * count + 0.5);
     for (int i = 0; i < 4; i++) {
         const double b0 = p->Transversal_BeginEnd[i][0], b1 = p->Transversal_BeginEnd[i][1];
         if (p->Transversal_Color[i][3] <= 0.0 || b0 == b1)
