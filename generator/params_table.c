@@ -402,6 +402,13 @@ static const SqParamSpec table[] = {
      .ref = "Landreneau 2011, Ch. V (alpha)",
      .help = "voronoi layout: half-length of the sites' segments along v, in scale "
              "spacings (0 round cells)"},
+    {.name = "Scales_GapColor", COLOR(Scales_GapColor, 0.08, 0.07, 0.06, 1), .group = "scales",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5 (real photos)",
+     .help = "colour of the skin between the scales, shown where Scales_GapExtent reaches"},
+    {.name = "Scales_GapExtent", .type = SQ_PT_FLOAT, .offset = F(Scales_GapExtent),
+     .def = {0}, .min = 0, .max = 1, .smin = 0, .smax = 0.6, .group = "scales",
+     .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5 (real photos)",
+     .help = "height up to which Scales_GapColor shows: full at 0, fading linearly to none here"},
 
     /* ---- roughness and normal map ---- */
     {.name = "Scales_RoughnessMin", .type = SQ_PT_FLOAT, .offset = F(Scales_RoughnessMin),

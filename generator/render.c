@@ -220,6 +220,20 @@ static void blend_row(const PatternSource *s, float *out, int w, const float *pr
 
 /* The parameters of pattern layer k: p with the layer's pattern, no outline (the outline
  * belongs to the base pattern) and a seed of its own, from Seed and k. */
+/* The skin between the scales (Scales_GapColor, squama's): its colour over the finished
+ * row where the height map is below the extent, in full at height 0 and fading linearly
+ * to none at the extent. Real scales part to show it, darker or paler than the scales. */
+static void gap_row(float *out, const float *height, int w, const float gap[3], float extent)
+{
+    for (int x = 0; x < w; x++) {
+        const float e = 1.0f - height[x] / extent;
+        if (e <= 0)
+            continue;
+        for (int c = 0; c < 3; c++)
+            out[3 * x + c] += (gap[c] - out[3 * x + c]) * (e > 1 ? 1 : e);
+    }
+}
+
 static void layer_params(const SqParams *p, int k, SqParams *q)
 {
     *q = *p;
@@ -269,6 +283,9 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     if (st == SQ_OK) {
         const float bg[3] = {(float)p->Background_Color[0], (float)p->Background_Color[1],
                              (float)p->Background_Color[2]};
+        const float gap[3] = {(float)p->Scales_GapColor[0], (float)p->Scales_GapColor[1],
+                              (float)p->Scales_GapColor[2]};
+        const float gap_extent = (float)p->Scales_GapExtent;
         int gw = 1;
         for (int i = 0; i < nsrc; i++)
             if (src[i].warp.dx && src[i].warp.gw > gw)
@@ -314,6 +331,8 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
                         source_row(&src[i], y, w, h, fxs, fys, rowx, rowy, pr, pg, pb, pa);
                         blend_row(&src[i], out, w, pr, pg, pb, pa);
                     }
+                    if (gap_extent > 0)
+                        gap_row(out, height + (size_t)y * w, w, gap, gap_extent);
                 }
             }
             free(buf);

@@ -57,8 +57,9 @@ run presets;              check "presets without subcommand" 2 err "say what to 
 run presets list;         check "presets list" 0 out "thesis/table_4_1_transversal.json" out "thesis/ca/vipera_berus.ca" out "transversal"
 run presets list --json;  check "presets list --json" 0 out '"kind": "ca"'
 run presets list /nonexistent; check "presets list missing dir" 1 err "squama: no presets folder here (/nonexistent)"
-run presets validate "$SRC"/presets/thesis/*.json "$SRC"/presets/thesis/ca/*.ca "$SRC"/presets/complex/*.json "$SRC"/presets/layered/*.json
-check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal" out "ok  $SRC/presets/layered/garter_snake.json  (spots"
+run presets validate "$SRC"/presets/*/*.json "$SRC"/presets/thesis/ca/*.ca
+check "validate shipped" 0 out "ok  $SRC/presets/thesis/d11_five_lined_skink.json  (longitudinal" out "ok  $SRC/presets/layered/garter_snake.json  (spots" \
+    out "ok  $SRC/presets/scales/green_black_skin.json  (none"
 run presets validate;     check "validate nothing" 2 err "validate needs at least one FILE"
 
 printf '{"format": "squama-preset/1",\n "Spots_Tilling": 2}\n' >"$TMP/typo.json"

@@ -53,6 +53,7 @@ static void stress_params(SqParams *p)
     p->Scales_PositionRandom[0] = p->Scales_PositionRandom[1] = 0.1;
     p->Scales_RotationRandom = 10;
     p->Scales_BellyWarpIntensity = 5;
+    p->Scales_GapExtent = 0.3;
     p->Seed = 12345;
 }
 
@@ -243,6 +244,48 @@ static void roughness_between_its_levels(void **state)
     sq_gen_textures_free(&t);
 }
 
+/* The skin between the scales: the gap colour in full where the height map is 0, fading
+ * linearly to nothing at Scales_GapExtent, over the finished colour (pattern, layers,
+ * outline, noise); the other maps untouched. */
+static void gap_colour_where_the_scales_are_low(void **state)
+{
+    (void)state;
+    SqParams p;
+    stress_params(&p);
+    p.Pattern_Layers.count = 1;
+    p.Pattern_Layers.layer[0].spec = p.pattern;
+    p.Pattern_Layers.layer[0].spec.Pattern_Type = SQ_PATTERN_LONGITUDINAL;
+    p.Pattern_Layers.layer[0].Layer_Opacity = 0.7;
+    p.Scales_GapExtent = 0;
+    SqTextures a, b;
+    render(&p, 128, 0, &a);
+    const double extent = 0.45, gap[3] = {0.1, 0.9, 0.3};
+    p.Scales_GapExtent = extent;
+    for (int c = 0; c < 3; c++)
+        p.Scales_GapColor[c] = gap[c];
+    render(&p, 128, 0, &b);
+    const int n = 128 * 128;
+    int full = 0, none = 0;
+    for (int i = 0; i < n; i++) {
+        const float h = a.height.px[i];
+        assert_float_equal(b.height.px[i], h, 0);
+        assert_float_equal(b.roughness.px[i], a.roughness.px[i], 0);
+        double e = 1 - h / extent;
+        e = e < 0 ? 0 : e > 1 ? 1 : e;
+        full += e > 0.5;
+        none += e == 0;
+        for (int c = 0; c < 3; c++) {
+            const double want = a.basecolor.px[3 * i + c] + (gap[c] - a.basecolor.px[3 * i + c]) * e;
+            if (fabs(b.basecolor.px[3 * i + c] - want) > 1e-5)
+                fail_msg("texel %d channel %d at height %.3f: %.5f, want %.5f", i, c, h, b.basecolor.px[3 * i + c], want);
+        }
+    }
+    if (full < n / 50 || none < n / 5)
+        fail_msg("the test sees too little of either side: %d texels over half gap, %d none", full, none);
+    sq_gen_textures_free(&a);
+    sq_gen_textures_free(&b);
+}
+
 /* A preset looks the same at every resolution: 256 box-filtered to 128 matches 128. */
 static void resolution_independent(void **state)
 {
@@ -372,6 +415,7 @@ int main(void)
         cmocka_unit_test(normal_map_convention),
         cmocka_unit_test(ventral_scales_are_stretched),
         cmocka_unit_test(roughness_between_its_levels),
+        cmocka_unit_test(gap_colour_where_the_scales_are_low),
         cmocka_unit_test(resolution_independent),
         cmocka_unit_test(refusals),
         cmocka_unit_test(golden_thesis_presets),

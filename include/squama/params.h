@@ -207,6 +207,8 @@ typedef struct SqParams {
     double Scales_BellyWarpIntensity;
     int Scales_Layout; /* SqScalesLayout */
     double Scales_VoronoiAnisotropy;
+    double Scales_GapColor[4];
+    double Scales_GapExtent;
 
     /* roughness (§4.4) and normal map (§5) */
     double Scales_RoughnessMin;
