@@ -187,15 +187,33 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
     family_colour(r, sq__rng_uniform(r) < 0.7 ? BLACK : DARK_BROWN, p->Outline_Color);
 }
 
+/* This share of the smooth-scaled skins show the skin between their scales
+ * (Scales_GapColor): a dark shade of the ground, now and then a pale one, over rounder
+ * scales (ScaleShape_Blur) so that it reads as outlines. Not on keeled scales: the gap
+ * colour would follow the grooves beside the keels as scratches. */
+static const double GAP_SHARE = 0.5;
+
+static void scale_gaps(SqRng *r, SqParams *p)
+{
+    if (p->ScaleShape_IsKeeled || sq__rng_uniform(r) >= GAP_SHARE)
+        return;
+    shade(p->Background_Color, sq__rng_uniform(r) < 0.8 ? sq__rng_between(r, 0.15, 0.45) : sq__rng_between(r, 1.3, 1.6),
+          p->Scales_GapColor);
+    p->Scales_GapExtent = sq__rng_between(r, 0.35, 0.6);
+    p->ScaleShape_Blur = sq__rng_between(r, 5, 12);
+}
+
 /* ---- drawing and judging candidates ---- */
 
 /* A random candidate of the genome (sq__genome_draw: genes uniform over the narrowed
  * ranges, the sparse ones at their default half the time), then colours from a scheme,
- * rings, an automaton, and the reaction-diffusion grid the fit uses. */
+ * the skin between the scales now and then, rings, an automaton, and the
+ * reaction-diffusion grid the fit uses. */
 static void draw_candidate(SqRng *r, const SqGenome *g, SqParams *p)
 {
     sq__genome_draw(r, g, p);
     colour_scheme(r, p, g->category);
+    scale_gaps(r, p);
     sq__draw_bands(r, g, p);
     if (g->has_ca) {
         uint64_t s = sq__rng_next(r);

@@ -62,12 +62,34 @@ static void distance_is_a_distance(void **state)
     sq_seed_result_free(&r);
 }
 
+/* A seed's skin between the scales: a darker or paler shade of its ground, over rounder,
+ * smooth scales; returns 1 (fails otherwise). */
+static int gap_is_a_shade_of_the_ground(const SqParams *p)
+{
+    assert_true(p->Scales_GapExtent >= 0.35 && p->Scales_GapExtent <= 0.6);
+    assert_true(p->ScaleShape_Blur >= 5 && p->ScaleShape_Blur <= 12);
+    assert_false(p->ScaleShape_IsKeeled);
+    double k = NAN;
+    for (int c = 0; c < 3; c++) {
+        const double g = p->Scales_GapColor[c], b = p->Background_Color[c];
+        if (b < 0.02 || g >= 1)
+            continue; /* no ratio to read, or clamped */
+        if (isnan(k))
+            k = g / b;
+        assert_true(fabs(g / b - k) < 1e-9);
+    }
+    assert_false(isnan(k));
+    assert_true((k >= 0.15 && k <= 0.45) || (k >= 1.3 && k <= 1.6));
+    return 1;
+}
+
 /* n presets, of the category, valid, loadable as presets, plausible; the pool's counts add
  * up; the same on 1 and 2 threads. */
 static void category_presets(void **state)
 {
     (void)state;
     const int cats[] = {SQ_PATTERN_LONGITUDINAL, SQ_PATTERN_TRANSVERSAL, SQ_PATTERN_SPOTS, SQ_PATTERN_OTHER_SIMPLE};
+    int gaps = 0, picks = 0;
     for (size_t k = 0; k < sizeof cats / sizeof cats[0]; k++) {
         SqSeedResult r1, r2 = {0};
         SqError err;
@@ -95,6 +117,9 @@ static void category_presets(void **state)
             assert_true(sq_params_equal(&c->params, &two->picks[i].params));
             assert_memory_equal(&c->features, &two->picks[i].features, sizeof c->features);
             loads_back(&c->params);
+            picks++;
+            if (c->params.Scales_GapExtent > 0)
+                gaps += gap_is_a_shade_of_the_ground(&c->params);
         }
         /* no two picks the same candidate */
         for (int i = 0; i < r1.n; i++)
@@ -103,6 +128,9 @@ static void category_presets(void **state)
         sq_seed_result_free(&r1);
         sq_seed_result_free(&r2);
     }
+    /* some skins, not all, show the skin between their scales */
+    printf("  %d of %d picks show the skin between their scales\n", gaps, picks);
+    assert_true(gaps >= 1 && gaps < picks);
 }
 
 /* Reaction-diffusion: two presets of the complex category, valid, plausible, loadable (on
