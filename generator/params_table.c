@@ -404,7 +404,7 @@ static const SqParamSpec table[] = {
              "spacings (0 round cells)"},
     {.name = "Scales_GapColor", COLOR(Scales_GapColor, 0.08, 0.07, 0.06, 1), .group = "scales",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5 (real photos)",
-     .help = "colour of the skin between the scales, shown where Scales_GapExtent reaches"},
+     .help = "colour of the skin between the scales (alpha its opacity), where Scales_GapExtent reaches"},
     {.name = "Scales_GapExtent", .type = SQ_PT_FLOAT, .offset = F(Scales_GapExtent),
      .def = {0}, .min = 0, .max = 1, .smin = 0, .smax = 0.6, .group = "scales",
      .origin = SQ_ORIGIN_SQUAMA, .ref = "issue 5 (real photos)",

@@ -1,6 +1,6 @@
 /* The generator's driver (thesis §4.1): height (scales + micro detail), roughness and
  * normal maps; the colour map as background, pattern layers, post-process, outline and
- * warp. */
+ * warp, and last the skin between the scales. */
 #include <string.h>
 #include <time.h>
 
@@ -218,22 +218,23 @@ static void blend_row(const PatternSource *s, float *out, int w, const float *pr
     }
 }
 
-/* The parameters of pattern layer k: p with the layer's pattern, no outline (the outline
- * belongs to the base pattern) and a seed of its own, from Seed and k. */
 /* The skin between the scales (Scales_GapColor, squama's): its colour over the finished
- * row where the height map is below the extent, in full at height 0 and fading linearly
- * to none at the extent. Real scales part to show it, darker or paler than the scales. */
-static void gap_row(float *out, const float *height, int w, const float gap[3], float extent)
+ * row where the height map is below the extent, at its alpha at height 0 and fading
+ * linearly to none at the extent (the height map is within 0 to 1). Real scales part to
+ * show it, darker or paler than the scales. */
+static void gap_row(float *out, const float *height, int w, const float gap[4], float extent)
 {
     for (int x = 0; x < w; x++) {
         const float e = 1.0f - height[x] / extent;
         if (e <= 0)
             continue;
         for (int c = 0; c < 3; c++)
-            out[3 * x + c] += (gap[c] - out[3 * x + c]) * (e > 1 ? 1 : e);
+            out[3 * x + c] += (gap[c] - out[3 * x + c]) * e * gap[3];
     }
 }
 
+/* The parameters of pattern layer k: p with the layer's pattern, no outline (the outline
+ * belongs to the base pattern) and a seed of its own, from Seed and k. */
 static void layer_params(const SqParams *p, int k, SqParams *q)
 {
     *q = *p;
@@ -244,7 +245,8 @@ static void layer_params(const SqParams *p, int k, SqParams *q)
 }
 
 /* The colour map (§4.2, §4.1 step 3): the background with its noise, the base pattern over
- * it, then each pattern layer blended over what is below it. */
+ * it, then each pattern layer blended over what is below it, then the skin between the
+ * scales. */
 static SqStatus render_color(const SqParams *p, const float *height, float *col, int w, int h,
                              SqGenTimings *tm, SqError *err)
 {
@@ -283,9 +285,9 @@ static SqStatus render_color(const SqParams *p, const float *height, float *col,
     if (st == SQ_OK) {
         const float bg[3] = {(float)p->Background_Color[0], (float)p->Background_Color[1],
                              (float)p->Background_Color[2]};
-        const float gap[3] = {(float)p->Scales_GapColor[0], (float)p->Scales_GapColor[1],
-                              (float)p->Scales_GapColor[2]};
-        const float gap_extent = (float)p->Scales_GapExtent;
+        const float gap[4] = {(float)p->Scales_GapColor[0], (float)p->Scales_GapColor[1],
+                              (float)p->Scales_GapColor[2], (float)p->Scales_GapColor[3]};
+        const float gap_extent = p->Scales_GapColor[3] > 0 ? (float)p->Scales_GapExtent : 0;
         int gw = 1;
         for (int i = 0; i < nsrc; i++)
             if (src[i].warp.dx && src[i].warp.gw > gw)

@@ -189,15 +189,19 @@ static void colour_scheme(SqRng *r, SqParams *p, int category)
 
 /* This share of the smooth-scaled skins show the skin between their scales
  * (Scales_GapColor): a dark shade of the ground, now and then a pale one, over rounder
- * scales (ScaleShape_Blur) so that it reads as outlines. Not on keeled scales: the gap
- * colour would follow the grooves beside the keels as scratches. */
+ * scales (ScaleShape_Blur) so that it reads as outlines. Not on keeled scales, where the
+ * gap colour would follow the grooves beside the keels as scratches, nor on a near-black
+ * ground, where no shade of it would show. */
 static const double GAP_SHARE = 0.5;
 
 static void scale_gaps(SqRng *r, SqParams *p)
 {
     if (p->ScaleShape_IsKeeled || sq__rng_uniform(r) >= GAP_SHARE)
         return;
-    shade(p->Background_Color, sq__rng_uniform(r) < 0.8 ? sq__rng_between(r, 0.15, 0.45) : sq__rng_between(r, 1.3, 1.6),
+    const double *bg = p->Background_Color;
+    if (fmax(bg[0], fmax(bg[1], bg[2])) < 0.2)
+        return;
+    shade(bg, sq__rng_uniform(r) < 0.8 ? sq__rng_between(r, 0.15, 0.45) : sq__rng_between(r, 1.3, 1.6),
           p->Scales_GapColor);
     p->Scales_GapExtent = sq__rng_between(r, 0.35, 0.6);
     p->ScaleShape_Blur = sq__rng_between(r, 5, 12);

@@ -244,9 +244,9 @@ static void roughness_between_its_levels(void **state)
     sq_gen_textures_free(&t);
 }
 
-/* The skin between the scales: the gap colour in full where the height map is 0, fading
- * linearly to nothing at Scales_GapExtent, over the finished colour (pattern, layers,
- * outline, noise); the other maps untouched. */
+/* The skin between the scales: the gap colour at its alpha where the height map is 0,
+ * fading linearly to nothing at Scales_GapExtent, over the finished colour (pattern,
+ * layers, outline, noise); the other maps untouched; alpha 0 changes nothing. */
 static void gap_colour_where_the_scales_are_low(void **state)
 {
     (void)state;
@@ -259,9 +259,9 @@ static void gap_colour_where_the_scales_are_low(void **state)
     p.Scales_GapExtent = 0;
     SqTextures a, b;
     render(&p, 128, 0, &a);
-    const double extent = 0.45, gap[3] = {0.1, 0.9, 0.3};
+    const double extent = 0.45, gap[4] = {0.1, 0.9, 0.3, 0.8};
     p.Scales_GapExtent = extent;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 4; c++)
         p.Scales_GapColor[c] = gap[c];
     render(&p, 128, 0, &b);
     const int n = 128 * 128;
@@ -270,18 +270,23 @@ static void gap_colour_where_the_scales_are_low(void **state)
         const float h = a.height.px[i];
         assert_float_equal(b.height.px[i], h, 0);
         assert_float_equal(b.roughness.px[i], a.roughness.px[i], 0);
+        for (int c = 0; c < 3; c++)
+            assert_float_equal(b.normal.px[3 * i + c], a.normal.px[3 * i + c], 0);
         double e = 1 - h / extent;
         e = e < 0 ? 0 : e > 1 ? 1 : e;
         full += e > 0.5;
         none += e == 0;
         for (int c = 0; c < 3; c++) {
-            const double want = a.basecolor.px[3 * i + c] + (gap[c] - a.basecolor.px[3 * i + c]) * e;
+            const double want = a.basecolor.px[3 * i + c] + (gap[c] - a.basecolor.px[3 * i + c]) * e * gap[3];
             if (fabs(b.basecolor.px[3 * i + c] - want) > 1e-5)
                 fail_msg("texel %d channel %d at height %.3f: %.5f, want %.5f", i, c, h, b.basecolor.px[3 * i + c], want);
         }
     }
     if (full < n / 50 || none < n / 5)
         fail_msg("the test sees too little of either side: %d texels over half gap, %d none", full, none);
+    p.Scales_GapColor[3] = 0;
+    render(&p, 128, 0, &b);
+    assert_memory_equal(b.basecolor.px, a.basecolor.px, sizeof(float) * 3 * (size_t)n);
     sq_gen_textures_free(&a);
     sq_gen_textures_free(&b);
 }
