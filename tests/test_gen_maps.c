@@ -285,6 +285,7 @@ static void gap_colour_where_the_scales_are_low(void **state)
     if (full < n / 50 || none < n / 5)
         fail_msg("the test sees too little of either side: %d texels over half gap, %d none", full, none);
     p.Scales_GapColor[3] = 0;
+    sq_gen_textures_free(&b);
     render(&p, 128, 0, &b);
     assert_memory_equal(b.basecolor.px, a.basecolor.px, sizeof(float) * 3 * (size_t)n);
     sq_gen_textures_free(&a);
