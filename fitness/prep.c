@@ -404,6 +404,11 @@ static void body_free(Body *b)
     memset(b, 0, sizeof *b);
 }
 
+/* A body covers at least 1/MIN_SHARE of the photo: the mask given or found, and what is
+ * left of it once cleaned (one body, no specks), so that the mask a fit writes is one it
+ * would take back with --mask. */
+enum { MIN_SHARE = 500 };
+
 /* Analyses b->m8 (w x h, 0/255) in place. On failure b->st and b->why say why. */
 static void analyse(Body *b, int w, int h)
 {
@@ -425,6 +430,12 @@ static void analyse(Body *b, int w, int h)
     const int side = w > h ? w : h;
     if (sq__cv_clean_mask(b->m8, w, h, side / 300 > 1 ? side / 300 : 1, area * 0.01) < 0)
         WHY(SQ_ERR_INTERNAL, "OpenCV could not clean the mask");
+    size_t kept = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        kept += b->m8[i] != 0;
+    if (kept < (size_t)w * h / MIN_SHARE)
+        WHY(SQ_ERR_INVALID, "the body found in the mask covers %.2f%% of the photo (%.1f%% at least): no snake to see",
+            100.0 * kept / ((double)w * h), 100.0 / MIN_SHARE);
     /* distance to the edge, skeleton, its longest path */
     if (sq__cv_distance(b->m8, w, h, b->dist) || sq__cv_thin(b->m8, w, h, b->skel))
         WHY(SQ_ERR_INTERNAL, "OpenCV could not find the body's centre line");
@@ -1171,7 +1182,7 @@ static void analyse_candidate(const uint8_t *m, int mw, int mh, int w, int h, Bo
                 c->m8[i] = mb[i] >= 0.5f ? 255 : 0;
                 area += c->m8[i] != 0;
             }
-            if (area < (size_t)w * h / 500 || area > (size_t)w * h * 7 / 10) {
+            if (area < (size_t)w * h / MIN_SHARE || area > (size_t)w * h * 7 / 10) {
                 c->st = SQ_ERR_INVALID;
                 snprintf(c->why, sizeof c->why, "the automatic mask covers %.1f%% of the photo",
                          100.0 * area / ((double)w * h));
@@ -1228,7 +1239,8 @@ static void debug_candidate(const SqPrepOptions *o, int k, const char *what, dou
  * body, and the centre line then crosses it; 57 of the 75 photos of ../shared/photos
  * prepared before, 62 after, their median strip 2.5 body widths before, 3.4 after). Each
  * is analysed at the working size (the photo's) and judged by snake_likeness; the most
- * snake-like becomes *body, or when none is a body, the first, to say why. Returns 0, or
+ * snake-like becomes *body, or when none is a body, the first that was analysed as one (not
+ * refused for its area alone), else the first, to say why. Returns 0, or
  * -1 when OpenCV failed or memory ran out for a GrabCut (a candidate with the backdrop
  * out that could not be made is left out).
  * Tried and not kept (`scripts/bench masks` on the 75 photos of ../shared/photos, by eye):
@@ -1324,7 +1336,9 @@ static int automatic_mask(const SqImage *photo, const SqPrepOptions *o, Body *bo
         debug_candidate(o, k + AUTO_CANDIDATES * v, what[v][k == 2], job[k].score[v], job[k].mask[v], gw, gh);
         if (v != job[k].kept)
             continue;
-        if (job[k].score[v] > best || (best < 0 && !body->m8)) {
+        /* none a body so far: the first, or the first that got as far as analysing, to say why */
+        const int further = best < 0 && job[k].score[v] < 0 && job[k].c[v].dist && !body->dist;
+        if (job[k].score[v] > best || (best < 0 && !body->m8) || further) {
             best = job[k].score[v] > best ? job[k].score[v] : best;
             body_free(body);
             *body = job[k].c[v];
@@ -1410,7 +1424,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         for (size_t i = 0; i < (size_t)w * h; i++)
             area += m8[i] != 0;
         const char *src = source_name[out->mask_source];
-        if (area < (size_t)w * h / 500)
+        if (area < (size_t)w * h / MIN_SHARE)
             FAIL(SQ_ERR_INVALID, "mask", "%s covers %.2f%% of the photo: no snake to see", src,
                  100.0 * area / ((double)w * h));
         if (area > (size_t)w * h * 9 / 10)
