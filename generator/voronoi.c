@@ -25,8 +25,9 @@
  *
  * Relaxation. Lloyd's algorithm on a raster of RELAX samples per spacing each way (a
  * property of the parameters, never of the texture size: a preset looks the same at any
- * size): every sample finds its nearest site through a bucket grid of about one site per
- * bucket, then every free site moves to its cell's centroid. The cells the scales are
+ * size): every sample finds its nearest site (each site, row by row, marks the span of
+ * samples within a spacing of it where it is nearer than what they have), then every free
+ * site moves to its cell's centroid. The cells the scales are
  * fitted to come from a last, finer raster (FINE per spacing). Sums run in raster order,
  * so the result is the same on any thread count.
  *
@@ -55,6 +56,10 @@ static const double COVER = 1.04;   /* lens margin over the cell, for the stamp'
  * distance ties at 0 and a site could lose its whole cell; a small share of the
  * distance along v to the site's centre splits such ties by the nearer centre. */
 static const double TIE = 0.05;
+/* How far each site looks for the samples it may be nearest to, in spacings: nearly
+ * every sample has a site this near (the farthest, 1.19, on a 64 x 1 layout); the rest
+ * try every site. Nearer (0.8, 0.9) or farther (1.15, 1.3) is no faster. */
+static const double REACH = 1.0;
 /* A ventral stretch bends to its row's place over the first 1 / BEND of its length and
  * runs straight from there to the seam. */
 static const float BEND = 3.0f;
@@ -94,16 +99,12 @@ void sq__voronoi_free(SqVoronoi *vo)
     memset(vo, 0, sizeof *vo);
 }
 
-/* Sites in spacings (U in [0, DU), V in [0, DV)) and the bucket grid over them. */
+/* Sites in spacings (U in [0, DU), V in [0, DV)), sorted into bands along v. */
 typedef struct Space {
-    double DU, DV, a;
-    int n, nbu, nbv, ku, kv;
+    double DU, DV, a, reach;
+    int n, nbv, kv;
     double *U, *V;
-    int *start, *list; /* buckets: sites of bucket b are list[start[b] .. start[b + 1]) */
-    /* per bucket, the sites a sample in it may be nearest to, with their coordinates
-     * packed beside them: cand[cstart[b] .. cstart[b + 1]) */
-    int *cstart, *cand;
-    double *cuv;
+    int *start, *list; /* bands: the sites of band b are list[start[b] .. start[b + 1]) */
 } Space;
 
 static void space_free(Space *S)
@@ -112,111 +113,113 @@ static void space_free(Space *S)
     free(S->V);
     free(S->start);
     free(S->list);
-    free(S->cstart);
-    free(S->cand);
-    free(S->cuv);
 }
 
-static int bucket_u(const Space *S, double U)
-{
-    int b = (int)(U / S->DU * S->nbu);
-    return b < 0 ? 0 : (b >= S->nbu ? S->nbu - 1 : b);
-}
-
-static int bucket_v(const Space *S, double V)
+static int band_of(const Space *S, double V)
 {
     int b = (int)(V / S->DV * S->nbv);
     return b < 0 ? 0 : (b >= S->nbv ? S->nbv - 1 : b);
 }
 
-/* Buckets one way around bucket i (of n): lo..hi, wrapped; all of them, once, when the
- * window covers the axis. */
-static void window(int i, int k, int n, int *lo, int *hi)
+/* Counting sort of the sites into bands, in site order. */
+static void band_sites(Space *S)
 {
-    if (2 * k + 1 >= n) {
-        *lo = 0;
-        *hi = n - 1;
-    } else {
-        *lo = i - k;
-        *hi = i + k;
-    }
-}
-
-/* Counting sort of the sites into buckets, in site order, then every bucket's
- * candidates (the sites of the buckets around it, in window order). */
-static void bucket_sites(Space *S)
-{
-    const int nb = S->nbu * S->nbv;
-    memset(S->start, 0, sizeof(int) * (size_t)(nb + 1));
+    memset(S->start, 0, sizeof(int) * (size_t)(S->nbv + 1));
     for (int k = 0; k < S->n; k++)
-        S->start[bucket_v(S, S->V[k]) * S->nbu + bucket_u(S, S->U[k]) + 1]++;
-    for (int b = 0; b < nb; b++)
+        S->start[band_of(S, S->V[k]) + 1]++;
+    for (int b = 0; b < S->nbv; b++)
         S->start[b + 1] += S->start[b];
-    int *fill = S->start + nb + 1; /* nb more ints of room */
-    memcpy(fill, S->start, sizeof(int) * (size_t)nb);
+    int *fill = S->start + S->nbv + 1; /* nbv more ints of room */
+    memcpy(fill, S->start, sizeof(int) * (size_t)S->nbv);
     for (int k = 0; k < S->n; k++)
-        S->list[fill[bucket_v(S, S->V[k]) * S->nbu + bucket_u(S, S->U[k])]++] = k;
-    int m = 0;
-    for (int bv = 0; bv < S->nbv; bv++)
-        for (int bu = 0; bu < S->nbu; bu++) {
-            int u0, u1, v0, v1;
-            window(bu, S->ku, S->nbu, &u0, &u1);
-            window(bv, S->kv, S->nbv, &v0, &v1);
-            S->cstart[bv * S->nbu + bu] = m;
-            for (int jv = v0; jv <= v1; jv++)
-                for (int ju = u0; ju <= u1; ju++) {
-                    const int c = sq__wrap(jv, S->nbv) * S->nbu + sq__wrap(ju, S->nbu);
-                    for (int i = S->start[c]; i < S->start[c + 1]; i++) {
-                        const int k = S->list[i];
-                        S->cand[m] = k;
-                        S->cuv[2 * m] = S->U[k];
-                        S->cuv[2 * m + 1] = S->V[k];
-                        m++;
-                    }
-                }
-        }
-    S->cstart[nb] = m;
+        S->list[fill[band_of(S, S->V[k])]++] = k;
 }
 
-/* The nearest site to (U, V), a sample of bucket b, by the segment distance; ties to
- * the lower index. */
-static int nearest(const Space *S, int b, double U, double V)
+/* An offset on a wrapped axis of length D, folded into [0, D / 2]. */
+static inline double fold(double d, double D)
 {
-    int best = -1;
-    double bd = INFINITY;
-    const double DU = S->DU, DV = S->DV, a = S->a;
-    const double *cuv = S->cuv;
-    const int *cand = S->cand;
-    /* |offsets| wrapped as min(d, D - d): no branches in the distance */
-    for (int i = S->cstart[b], e = S->cstart[b + 1]; i < e; i++) {
-        double du = fabs(U - cuv[2 * i]), dc = fabs(V - cuv[2 * i + 1]);
-        du = du < DU - du ? du : DU - du;
-        dc = dc < DV - dc ? dc : DV - dc;
-        double dv = dc - a;
-        dv = dv > 0 ? dv : 0;
-        const double d = du * du + dv * dv + TIE * dc * dc;
-        if (d <= bd && (d < bd || cand[i] < best)) {
-            bd = d;
-            best = cand[i];
-        }
-    }
-    return best;
+    d = fabs(d);
+    return d < D - d ? d : D - d;
 }
 
 /* Threads for rasters big enough to pay for waking them (a relaxation raster of the
  * default 16 x 32 scales has about 4600 samples). */
 enum { PARALLEL_SAMPLES = 1 << 12 };
 
-static void assign(const Space *S, int rw, int rh, int *owner)
+/* Every sample's nearest site by the segment distance, ties to the lower index. Row by
+ * row, each site within S->reach along v marks the samples within reach of it (a span
+ * of the row) where it is nearer than what they have; the sites within reach of a
+ * sample are all visited, so a sample left with nothing that near (a few, where the
+ * jittered grid leaves a hole) has every site tried. The distance, du^2 + dv^2 +
+ * TIE dc^2 (du, dc the wrapped offsets across and along, dv = dc less the segment's
+ * half-length), is summed in that order on both paths, so that equal is equal.
+ * bestd: rw * rh doubles of scratch; ucol: the rw columns' U. */
+static void assign(const Space *S, int rw, int rh, const double *ucol, int *owner, double *bestd)
 {
+    const double DU = S->DU, DV = S->DV, a = S->a, R2 = S->reach * S->reach, step = DU / rw;
 #pragma omp parallel for schedule(static) if ((size_t)rw * rh >= PARALLEL_SAMPLES)
     for (int y = 0; y < rh; y++) {
-        const double V = (y + 0.5) / rh * S->DV;
-        const int bv = bucket_v(S, V) * S->nbu;
+        const double V = (y + 0.5) / rh * DV;
+        int *own = owner + (size_t)y * rw;
+        double *bd = bestd + (size_t)y * rw;
         for (int x = 0; x < rw; x++) {
-            const double U = (x + 0.5) / rw * S->DU;
-            owner[(size_t)y * rw + x] = nearest(S, bv + bucket_u(S, U), U, V);
+            bd[x] = INFINITY;
+            own[x] = -1;
         }
+        const int b = band_of(S, V);
+        const int lo = 2 * S->kv + 1 >= S->nbv ? 0 : b - S->kv, hi = 2 * S->kv + 1 >= S->nbv ? S->nbv - 1 : b + S->kv;
+        for (int jb = lo; jb <= hi; jb++) {
+            const int c = sq__wrap(jb, S->nbv);
+            for (int i = S->start[c]; i < S->start[c + 1]; i++) {
+                const int k = S->list[i];
+                const double dc = fold(V - S->V[k], DV), Uk = S->U[k];
+                double dv = dc - a;
+                dv = dv > 0 ? dv : 0;
+                const double dv2 = dv * dv, tie2 = TIE * dc * dc;
+                if (dv2 + tie2 >= R2) /* no sample of the row within reach */
+                    continue;
+                /* the samples within reach across, in columns, and one more either way for
+                 * rounding */
+                const double w = sqrt(R2 - (dv2 + tie2)) / step;
+                int x0 = (int)floor(Uk / step - 0.5 - w) - 1, x1 = (int)ceil(Uk / step - 0.5 + w) + 1;
+                if (x1 - x0 + 1 >= rw) {
+                    x0 = 0;
+                    x1 = rw - 1;
+                }
+                /* the span as at most two runs of the row: the wrap taken apart */
+                int a0 = x0, a1 = x1, b1 = -1;
+                if (x0 < 0) {
+                    a0 = x0 + rw;
+                    a1 = rw - 1;
+                    b1 = x1;
+                } else if (x1 >= rw) {
+                    a1 = rw - 1;
+                    b1 = x1 - rw;
+                }
+                const int runs[2][2] = {{a0, a1}, {0, b1}};
+                for (int r = 0; r < 2; r++)
+                    for (int x = runs[r][0]; x <= runs[r][1]; x++) {
+                        const double du = fold(ucol[x] - Uk, DU);
+                        const double d = du * du + dv2 + tie2;
+                        const int nearer = (d < bd[x]) | ((d == bd[x]) & (k < own[x]));
+                        bd[x] = nearer ? d : bd[x];
+                        own[x] = nearer ? k : own[x];
+                    }
+            }
+        }
+        for (int x = 0; x < rw; x++)
+            if (!(bd[x] < R2)) /* nothing within reach: every site */
+                for (int k = 0; k < S->n; k++) {
+                    const double dc = fold(V - S->V[k], DV);
+                    double dv = dc - a;
+                    dv = dv > 0 ? dv : 0;
+                    const double du = fold(ucol[x] - S->U[k], DU);
+                    const double d = du * du + dv * dv + TIE * dc * dc;
+                    if (d < bd[x] || (d == bd[x] && k < own[x])) {
+                        bd[x] = d;
+                        own[x] = k;
+                    }
+                }
     }
 }
 
@@ -231,31 +234,28 @@ static void raster_size(const Space *S, double k, int *rw, int *rh)
 
 SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err)
 {
+    return sq__voronoi_build_reach(p, iterations, REACH, vo, err);
+}
+
+SqStatus sq__voronoi_build_reach(const SqParams *p, int iterations, double reach, SqVoronoi *vo, SqError *err)
+{
     memset(vo, 0, sizeof *vo);
     const int X = p->Scales_XAmount, Y = p->Scales_YAmount, n = X * Y;
-    Space S = {.DU = X * M_SQRT2, .DV = Y / M_SQRT2, .a = p->Scales_VoronoiAnisotropy, .n = n};
+    Space S = {.DU = X * M_SQRT2, .DV = Y / M_SQRT2, .a = p->Scales_VoronoiAnisotropy, .reach = reach, .n = n};
     int rw, rh, qw, qh; /* the final raster and the relaxation's */
     raster_size(&S, FINE, &rw, &rh);
     raster_size(&S, RELAX, &qw, &qh);
-    S.nbu = S.DU >= 2 ? (int)S.DU : 1;
     S.nbv = S.DV >= 2 ? (int)S.DV : 1;
-    /* a sample's nearest site is less than a spacing away (the jittered grid and its
-     * relaxations leave no wider holes) and a bucket is at least a spacing wide, so one
-     * bucket either way holds it, plus the segment's reach along v */
-    S.ku = 1;
-    S.kv = 1 + (int)ceil(S.a / (S.DV / S.nbv));
-    const int nb = S.nbu * S.nbv;
-    const size_t ns = (size_t)rw * rh;
+    /* a band is at least a spacing wide: the sites within reach of a row, plus the
+     * segment's reach along v, are in the bands this far either way */
+    S.kv = (int)ceil((reach + S.a) / (S.DV / S.nbv));
+    const size_t ns = (size_t)rw * rh, nq = (size_t)qw * qh;
     S.U = malloc(sizeof(double) * (size_t)n);
     S.V = malloc(sizeof(double) * (size_t)n);
-    S.start = malloc(sizeof(int) * (size_t)(2 * nb + 1));
+    S.start = malloc(sizeof(int) * (size_t)(2 * S.nbv + 1));
     S.list = malloc(sizeof(int) * (size_t)n);
-    /* every site is a candidate of the buckets of its window */
-    const size_t nc = (size_t)n * (size_t)(2 * S.ku + 1 < S.nbu ? 2 * S.ku + 1 : S.nbu) *
-                      (size_t)(2 * S.kv + 1 < S.nbv ? 2 * S.kv + 1 : S.nbv);
-    S.cstart = malloc(sizeof(int) * (size_t)(nb + 1));
-    S.cand = malloc(sizeof(int) * nc);
-    S.cuv = malloc(sizeof(double) * 2 * nc);
+    double *bestd = malloc(sizeof(double) * (ns > nq ? ns : nq));
+    double *ucol = malloc(sizeof(double) * (size_t)(rw > qw ? rw : qw));
     double *sum = malloc(sizeof(double) * 4 * (size_t)n); /* du, dv and, for the box, ranges */
     vo->n = n;
     vo->X = X;
@@ -265,7 +265,7 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     vo->u = malloc(sizeof(double) * (size_t)n);
     vo->v = malloc(sizeof(double) * (size_t)n);
     vo->fixed = calloc((size_t)n, 1);
-    vo->owner = malloc(sizeof(int) * (ns > (size_t)qw * qh ? ns : (size_t)qw * qh));
+    vo->owner = malloc(sizeof(int) * (ns > nq ? ns : nq));
     vo->area = malloc(sizeof(int) * (size_t)n);
     vo->cu = malloc(sizeof(double) * (size_t)n);
     vo->cv = malloc(sizeof(double) * (size_t)n);
@@ -273,10 +273,12 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     vo->bu1 = malloc(sizeof(double) * (size_t)n);
     vo->bv0 = malloc(sizeof(double) * (size_t)n);
     vo->bv1 = malloc(sizeof(double) * (size_t)n);
-    if (!S.U || !S.V || !S.start || !S.list || !S.cstart || !S.cand || !S.cuv || !sum || !vo->u || !vo->v || !vo->fixed ||
+    if (!S.U || !S.V || !S.start || !S.list || !bestd || !ucol || !sum || !vo->u || !vo->v || !vo->fixed ||
         !vo->owner || !vo->area || !vo->cu || !vo->cv || !vo->bu0 || !vo->bu1 || !vo->bv0 ||
         !vo->bv1) {
         space_free(&S);
+        free(bestd);
+        free(ucol);
         free(sum);
         sq__voronoi_free(vo);
         return sq_error_set(err, SQ_ERR_NOMEM, "Scales_Layout",
@@ -302,8 +304,10 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
     }
 
     for (int it = 0; it < iterations; it++) {
-        bucket_sites(&S);
-        assign(&S, qw, qh, vo->owner);
+        band_sites(&S);
+        for (int x = 0; x < qw; x++)
+            ucol[x] = (x + 0.5) / qw * S.DU;
+        assign(&S, qw, qh, ucol, vo->owner, bestd);
         memset(sum, 0, sizeof(double) * 2 * (size_t)n);
         memset(vo->area, 0, sizeof(int) * (size_t)n);
         for (int y = 0; y < qh; y++) {
@@ -322,8 +326,12 @@ SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqE
             }
     }
 
-    bucket_sites(&S);
-    assign(&S, rw, rh, vo->owner);
+    band_sites(&S);
+    for (int x = 0; x < rw; x++)
+        ucol[x] = (x + 0.5) / rw * S.DU;
+    assign(&S, rw, rh, ucol, vo->owner, bestd);
+    free(bestd);
+    free(ucol);
 
     /* the cells: area, centroid and bounding box, in texture units */
     for (int s = 0; s < n; s++) {

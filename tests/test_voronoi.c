@@ -72,6 +72,65 @@ static void one_cell_per_site(void **state)
     }
 }
 
+/* Every sample of the final raster lies in the cell of its nearest site by the segment
+ * distance (recomputed here over every site, to rounding), on layouts whose farthest
+ * sample is more than a spacing from every site (beyond the search's reach: 64 x 1, and
+ * jittered grids before relaxation) and on ordinary ones, round and elongated; and the
+ * search with a short reach, most samples left to its fallback, gives the same cells. */
+static void every_sample_in_its_nearest_cell(void **state)
+{
+    (void)state;
+    static const int sizes[][2] = {{16, 32}, {64, 1}, {40, 9}, {1, 1}, {3, 64}, {2, 3}, {7, 5}};
+    double farthest = 0;
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++)
+        for (int a = 0; a < 3; a++)
+            for (int seed = 0; seed < 2; seed++) {
+                const int iterations = seed % 2 ? SQ_VORONOI_ITERATIONS : 0;
+                SqParams p;
+                voronoi_params(&p);
+                p.Scales_XAmount = sizes[i][0];
+                p.Scales_YAmount = sizes[i][1];
+                p.Scales_VoronoiAnisotropy = a * 1.25;
+                p.Seed = seed;
+                SqVoronoi vo;
+                build(&p, iterations, &vo);
+                const double DU = vo.X * M_SQRT2, DV = vo.Y / M_SQRT2, al = p.Scales_VoronoiAnisotropy;
+                for (int y = 0; y < vo.rh; y++)
+                    for (int x = 0; x < vo.rw; x++) {
+                        const double U = (x + 0.5) / vo.rw * DU, V = (y + 0.5) / vo.rh * DV;
+                        double best = INFINITY, mine = INFINITY;
+                        for (int k = 0; k < vo.n; k++) {
+                            double du = fabs(U - vo.u[k] * DU), dc = fabs(V - vo.v[k] * DV);
+                            du = fmin(du, DU - du);
+                            dc = fmin(dc, DV - dc);
+                            const double dv = fmax(dc - al, 0), d = du * du + dv * dv + 0.05 * dc * dc;
+                            best = fmin(best, d);
+                            if (k == vo.owner[y * vo.rw + x])
+                                mine = d;
+                        }
+                        if (!(mine <= best + 1e-9))
+                            fail_msg("%dx%d alpha %g seed %d, %d iterations: sample (%d, %d) in a cell at "
+                                     "distance^2 %.6f, a site is at %.6f",
+                                     vo.X, vo.Y, al, seed, iterations, x, y, mine, best);
+                        farthest = fmax(farthest, best);
+                    }
+                /* a short reach leaves most samples to the fallback: the same cells */
+                SqVoronoi vs;
+                SqError err;
+                if (sq__voronoi_build_reach(&p, iterations, 0.3, &vs, &err) != SQ_OK)
+                    fail_msg("voronoi: %s (%s)", err.what, err.where);
+                assert_int_equal(vs.rw * vs.rh, vo.rw * vo.rh);
+                assert_memory_equal(vs.owner, vo.owner, sizeof(int) * vo.rw * vo.rh);
+                assert_memory_equal(vs.u, vo.u, sizeof(double) * vo.n);
+                assert_memory_equal(vs.v, vo.v, sizeof(double) * vo.n);
+                sq__voronoi_free(&vs);
+                sq__voronoi_free(&vo);
+            }
+    if (!(sqrt(farthest) > 1.0))
+        fail_msg("no sample farther than a spacing from every site (%.3f): the fallback is not tried",
+                 sqrt(farthest));
+}
+
 static void lateral_line_held_fixed(void **state)
 {
     (void)state;
@@ -311,6 +370,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(one_cell_per_site),
+        cmocka_unit_test(every_sample_in_its_nearest_cell),
         cmocka_unit_test(lateral_line_held_fixed),
         cmocka_unit_test(relaxation_evens_the_cells),
         cmocka_unit_test(anisotropy_stretches_cells_along_the_body),
