@@ -419,7 +419,7 @@ enum { SQ_VORONOI_ITERATIONS = 5 };
 /* Builds the tessellation with `iterations` Lloyd steps (0: the jittered grid as is). */
 SqStatus sq__voronoi_build(const SqParams *p, int iterations, SqVoronoi *vo, SqError *err);
 /* The same with the nearest-site search's reach in spacings (sq__voronoi_build's: 1):
- * any reach gives the same tessellation, only faster or slower (tests try a short one). */
+ * any reach > 0 gives the same tessellation, only faster or slower (tests try a short one). */
 SqStatus sq__voronoi_build_reach(const SqParams *p, int iterations, double reach, SqVoronoi *vo, SqError *err);
 void sq__voronoi_free(SqVoronoi *vo);
 

@@ -26,7 +26,8 @@
  * Relaxation. Lloyd's algorithm on a raster of RELAX samples per spacing each way (a
  * property of the parameters, never of the texture size: a preset looks the same at any
  * size): every sample finds its nearest site (each site, row by row, marks the span of
- * samples within a spacing of it where it is nearer than what they have), then every free
+ * samples within a spacing of it where it is nearer than what they have; a sample with
+ * no site that near tries them all), then every free
  * site moves to its cell's centroid. The cells the scales are
  * fitted to come from a last, finer raster (FINE per spacing). Sums run in raster order,
  * so the result is the same on any thread count.
@@ -57,8 +58,8 @@ static const double COVER = 1.04;   /* lens margin over the cell, for the stamp'
  * distance along v to the site's centre splits such ties by the nearer centre. */
 static const double TIE = 0.05;
 /* How far each site looks for the samples it may be nearest to, in spacings: nearly
- * every sample has a site this near (the farthest, 1.19, on a 64 x 1 layout); the rest
- * try every site. Nearer (0.8, 0.9) or farther (1.15, 1.3) is no faster. */
+ * every sample has a site this near (the farthest, 1.19, on layouts one row tall); the
+ * rest try every site. Nearer (0.8, 0.9) or farther (1.15, 1.3) is no faster. */
 static const double REACH = 1.0;
 /* A ventral stretch bends to its row's place over the first 1 / BEND of its length and
  * runs straight from there to the seam. */
@@ -142,6 +143,14 @@ static inline double fold(double d, double D)
     return d < D - d ? d : D - d;
 }
 
+/* The segment distance from the folded offsets across (du) and along (dc), dv = dc less
+ * the segment's half-length (at least 0): in one place for both of assign()'s paths, so
+ * that equal is equal on any compiler (a fused multiply-add contracts it alike). */
+static inline double seg_dist(double du, double dv, double dc)
+{
+    return du * du + dv * dv + TIE * dc * dc;
+}
+
 /* Threads for rasters big enough to pay for waking them (a relaxation raster of the
  * default 16 x 32 scales has about 4600 samples). */
 enum { PARALLEL_SAMPLES = 1 << 12 };
@@ -150,10 +159,8 @@ enum { PARALLEL_SAMPLES = 1 << 12 };
  * row, each site within S->reach along v marks the samples within reach of it (a span
  * of the row) where it is nearer than what they have; the sites within reach of a
  * sample are all visited, so a sample left with nothing that near (a few, where the
- * jittered grid leaves a hole) has every site tried. The distance, du^2 + dv^2 +
- * TIE dc^2 (du, dc the wrapped offsets across and along, dv = dc less the segment's
- * half-length), is summed in that order on both paths, so that equal is equal.
- * bestd: rw * rh doubles of scratch; ucol: the rw columns' U. */
+ * jittered grid leaves a hole) has every site tried. bestd: rw * rh doubles of
+ * scratch; ucol: the rw columns' U. */
 static void assign(const Space *S, int rw, int rh, const double *ucol, int *owner, double *bestd)
 {
     const double DU = S->DU, DV = S->DV, a = S->a, R2 = S->reach * S->reach, step = DU / rw;
@@ -172,15 +179,13 @@ static void assign(const Space *S, int rw, int rh, const double *ucol, int *owne
             const int c = sq__wrap(jb, S->nbv);
             for (int i = S->start[c]; i < S->start[c + 1]; i++) {
                 const int k = S->list[i];
-                const double dc = fold(V - S->V[k], DV), Uk = S->U[k];
-                double dv = dc - a;
-                dv = dv > 0 ? dv : 0;
-                const double dv2 = dv * dv, tie2 = TIE * dc * dc;
-                if (dv2 + tie2 >= R2) /* no sample of the row within reach */
+                const double dc = fold(V - S->V[k], DV), dv = dc - a > 0 ? dc - a : 0, Uk = S->U[k];
+                const double dva = seg_dist(0, dv, dc); /* no less than any sample's in the row */
+                if (dva >= R2) /* no sample of the row within reach */
                     continue;
                 /* the samples within reach across, in columns, and one more either way for
                  * rounding */
-                const double w = sqrt(R2 - (dv2 + tie2)) / step;
+                const double w = sqrt(R2 - dva) / step;
                 int x0 = (int)floor(Uk / step - 0.5 - w) - 1, x1 = (int)ceil(Uk / step - 0.5 + w) + 1;
                 if (x1 - x0 + 1 >= rw) {
                     x0 = 0;
@@ -199,8 +204,7 @@ static void assign(const Space *S, int rw, int rh, const double *ucol, int *owne
                 const int runs[2][2] = {{a0, a1}, {0, b1}};
                 for (int r = 0; r < 2; r++)
                     for (int x = runs[r][0]; x <= runs[r][1]; x++) {
-                        const double du = fold(ucol[x] - Uk, DU);
-                        const double d = du * du + dv2 + tie2;
+                        const double d = seg_dist(fold(ucol[x] - Uk, DU), dv, dc);
                         const int nearer = (d < bd[x]) | ((d == bd[x]) & (k < own[x]));
                         bd[x] = nearer ? d : bd[x];
                         own[x] = nearer ? k : own[x];
@@ -210,11 +214,8 @@ static void assign(const Space *S, int rw, int rh, const double *ucol, int *owne
         for (int x = 0; x < rw; x++)
             if (!(bd[x] < R2)) /* nothing within reach: every site */
                 for (int k = 0; k < S->n; k++) {
-                    const double dc = fold(V - S->V[k], DV);
-                    double dv = dc - a;
-                    dv = dv > 0 ? dv : 0;
-                    const double du = fold(ucol[x] - S->U[k], DU);
-                    const double d = du * du + dv * dv + TIE * dc * dc;
+                    const double dc = fold(V - S->V[k], DV), dv = dc - a > 0 ? dc - a : 0;
+                    const double d = seg_dist(fold(ucol[x] - S->U[k], DU), dv, dc);
                     if (d < bd[x] || (d == bd[x] && k < own[x])) {
                         bd[x] = d;
                         own[x] = k;
@@ -246,7 +247,7 @@ SqStatus sq__voronoi_build_reach(const SqParams *p, int iterations, double reach
     raster_size(&S, FINE, &rw, &rh);
     raster_size(&S, RELAX, &qw, &qh);
     S.nbv = S.DV >= 2 ? (int)S.DV : 1;
-    /* a band is at least a spacing wide: the sites within reach of a row, plus the
+    /* a band is a spacing wide or more (or all of v): the sites within reach of a row, plus the
      * segment's reach along v, are in the bands this far either way */
     S.kv = (int)ceil((reach + S.a) / (S.DV / S.nbv));
     const size_t ns = (size_t)rw * rh, nq = (size_t)qw * qh;
