@@ -1440,6 +1440,21 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
         }
     } else if (!o.line) {
         out->mask_source = SQ_MASK_AUTOMATIC;
+        /* one flat colour: nothing to find, and GrabCut's graph cut on it takes minutes */
+        double spread = 0;
+        for (int c = 0; c < 3; c++) {
+            double m = 0, v = 0;
+            const size_t np = (size_t)w * h;
+            for (size_t i = 0; i < np; i++)
+                m += out->photo.px[3 * i + c];
+            m /= np;
+            for (size_t i = 0; i < np; i++)
+                v += (out->photo.px[3 * i + c] - m) * (out->photo.px[3 * i + c] - m);
+            spread = fmax(spread, sqrt(v / np));
+        }
+        if (spread < 1.0 / 255)
+            FAIL(SQ_ERR_INVALID, "photo", "the photo is one flat colour (its spread %.2f levels of 255): no snake to find",
+                 255 * spread);
         if (automatic_mask(&out->photo, &o, &body) != 0)
             FAIL(SQ_ERR_INTERNAL, "mask", "the automatic mask failed (GrabCut, out of memory)");
     }
