@@ -3,6 +3,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <ftw.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -31,6 +32,14 @@ int cli_usage(const char *cmd, const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, " (see 'squama %s%s--help')\n", cmd ? cmd : "", cmd ? " " : "");
     return CLI_USAGE;
+}
+
+int cli_bad_option(const char *cmd, char *const argv[], int c)
+{
+    const char *opt = optind > 0 ? argv[optind - 1] : "?";
+    if (c == ':')
+        return cli_usage(cmd, "%s needs a value", opt);
+    return cli_usage(cmd, "unknown option '%s'", opt);
 }
 
 const char *cli_presets_dir(void)

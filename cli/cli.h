@@ -83,6 +83,10 @@ int cli_fail(const SqError *err);
 /* Prints "squama: <message> (see 'squama <cmd> --help')" to stderr; returns CLI_USAGE. */
 int cli_usage(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* getopt_long's refusal c (':' a value missing, with ':' leading the option string; else
+ * an unknown option) as a usage error naming the option as typed. */
+int cli_bad_option(const char *cmd, char *const argv[], int c);
+
 /* Parses "N" or "WxH" with both sides in [lo, hi]; 1 on success. */
 int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);
 

@@ -375,7 +375,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "ho:b:s:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":ho:b:s:j:q", opts, NULL)) != -1) {
         int taken = cli_fit_job_option(&b.job, c, optarg, "batch");
         if (taken >= 0) {
             if (taken != CLI_OK)
@@ -402,9 +402,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
             fputs(help_more, stdout);
             return CLI_OK;
         default:
-            if (optopt && strchr("obsj", optopt))
-                return cli_usage("batch", "-%c needs a value", optopt);
-            return cli_usage("batch", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("batch", argv, c);
         }
     }
     if (!b.outdir)

@@ -156,7 +156,7 @@ int cmd_fit(int argc, char **argv)
     int c;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:l:o:b:s:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":hm:l:o:b:s:j:q", opts, NULL)) != -1) {
         int taken = cli_fit_job_option(&job, c, optarg, "fit");
         if (taken >= 0) {
             if (taken != CLI_OK)
@@ -183,9 +183,7 @@ int cmd_fit(int argc, char **argv)
         case O_JSON: job.json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("mlobsj", optopt))
-                return cli_usage("fit", "-%c needs a value", optopt);
-            return cli_usage("fit", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("fit", argv, c);
         }
     }
     if (argc - optind != 1)

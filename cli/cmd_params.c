@@ -210,12 +210,12 @@ int cmd_params(int argc, char **argv)
     int json = 0, md = 0, c;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "+h", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "+:h", opts, NULL)) != -1) {
         switch (c) {
         case 'j': json = 1; break;
         case 'm': md = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
-        default: return cli_usage("params", "unknown option '%s'", argv[optind - 1]);
+        default: return cli_bad_option("params", argv, c);
         }
     }
     if (json && md)

@@ -105,7 +105,7 @@ int cmd_photo(int argc, char **argv)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "ho:m:t:s:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":ho:m:t:s:", opts, NULL)) != -1) {
         switch (c) {
         case 'o': out = optarg; break;
         case 'm': mask_path = optarg; break;
@@ -160,9 +160,7 @@ int cmd_photo(int argc, char **argv)
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("omts", optopt))
-                return cli_usage("photo", "-%c needs a value", optopt);
-            return cli_usage("photo", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("photo", argv, c);
         }
     }
     if (argc - optind != 1)

@@ -163,7 +163,7 @@ int cmd_prepare(int argc, char **argv)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:l:o:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":hm:l:o:", opts, NULL)) != -1) {
         switch (c) {
         case 'm': mask_path = optarg; break;
         case 'l': line_path = optarg; break;
@@ -176,9 +176,7 @@ int cmd_prepare(int argc, char **argv)
         case O_DEBUG: debug = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("mlo", optopt))
-                return cli_usage("prepare", "-%c needs a value", optopt);
-            return cli_usage("prepare", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("prepare", argv, c);
         }
     }
     if (argc - optind != 1)

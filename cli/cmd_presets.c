@@ -226,7 +226,7 @@ int cmd_presets(int argc, char **argv)
     const char *out = NULL;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hqo:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":hqo:", opts, NULL)) != -1) {
         switch (c) {
         case 'j': json = 1; break;
         case 'q': quiet = 1; break;
@@ -235,9 +235,7 @@ int cmd_presets(int argc, char **argv)
         case ':':
         case '?':
         default:
-            if (optopt == 'o')
-                return cli_usage("presets", "-o needs a file name");
-            return cli_usage("presets", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("presets", argv, c);
         }
     }
     if (optind >= argc)

@@ -109,7 +109,7 @@ int cmd_render(int argc, char **argv)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "ho:s:f:b:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":ho:s:f:b:j:q", opts, NULL)) != -1) {
         switch (c) {
         case 'o': outdir = optarg; break;
         case 's':
@@ -149,9 +149,7 @@ int cmd_render(int argc, char **argv)
         case 'q': quiet = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("osfbj", optopt))
-                return cli_usage("render", "-%c needs a value", optopt);
-            return cli_usage("render", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("render", argv, c);
         }
     }
     const int png = strcmp(ext, "png") == 0;

@@ -57,7 +57,7 @@ int cmd_score(int argc, char **argv)
     SqError err;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hm:l:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":hm:l:", opts, NULL)) != -1) {
         switch (c) {
         case 'm': mask_path = optarg; break;
         case 'l': line_path = optarg; break;
@@ -74,9 +74,7 @@ int cmd_score(int argc, char **argv)
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("ml", optopt))
-                return cli_usage("score", "-%c needs a value", optopt);
-            return cli_usage("score", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("score", argv, c);
         }
     }
     if (argc - optind < 2)

@@ -384,7 +384,7 @@ int cmd_seed(int argc, char **argv)
     int c;
     optind = 0;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "hc:o:n:d:s:m:l:b:j:q", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":hc:o:n:d:s:m:l:b:j:q", opts, NULL)) != -1) {
         long v;
         int m = 0;
         switch (c) {
@@ -451,9 +451,7 @@ int cmd_seed(int argc, char **argv)
         case O_JSON: json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            if (optopt && strchr("conjdsmlbj", optopt))
-                return cli_usage("seed", "-%c needs a value", optopt);
-            return cli_usage("seed", "unknown option '%s'", argv[optind - 1]);
+            return cli_bad_option("seed", argv, c);
         }
         if (m) {
             if (mode && mode != m)

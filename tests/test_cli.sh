@@ -83,7 +83,11 @@ run presets format "$TMP/typo.json" -o "$TMP/never.json"; check "format refuses 
 [ -e "$TMP/never.json" ] && { echo "FAIL: a failed format wrote a file"; fails=$((fails + 1)); }
 run presets format "$TMP/fmt.json" -o /nonexistent/x.json; check "format unwritable" 1 err "(/nonexistent/x.json)"
 run presets format a b;   check "format two files" 2 err "format takes exactly one FILE"
-run presets format x -o;  check "format -o without file" 2 err "-o needs a file name"
+run presets format x -o;  check "format -o without file" 2 err "-o needs a value"
+# a value missing, last on the line: named as typed, long or short, not "unknown"
+run fit x.jpg -o "$TMP/never" --evals; check "fit --evals without a value" 2 err "squama: --evals needs a value (see 'squama fit --help')"
+run render x.json -o "$TMP/never" --size; check "render --size without a value" 2 err "--size needs a value"
+run fit x.jpg -o "$TMP/never" -b; check "fit -b without a value" 2 err "-b needs a value"
 run presets frob;         check "presets unknown subcommand" 2 err "unknown subcommand 'frob'"
 SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
 check "SQUAMA_PRESETS" 0 out "daboia_russelii.ca"
@@ -193,7 +197,7 @@ printf '{"format": "squama-body-line/1", "width": 30,\n "stretches": [[[10, 10]]
 run score "$TMP/p.jpg" --line "$TMP/one.json" "$SRC/presets/thesis/table_4_4_spots.json"
 check "score --line of one point" 1 err "$TMP/one.json: stretches[0]"
 run fit "$TMP/p.jpg" --line "$TMP/nowhere.json" -o "$TMP/fl" --evals 100; check "fit --line missing" 1 err "$TMP/nowhere.json"
-run prepare "$TMP/p.jpg" -o "$TMP/prepm" --line; check "prepare --line without a value" 2 err "-l needs a value"
+run prepare "$TMP/p.jpg" -o "$TMP/prepm" --line; check "prepare --line without a value" 2 err "--line needs a value"
 run prepare "$TMP/p.jpg" --mask "$SRC/tests/data/orient6.jpg" -o "$TMP/prep2"
 check "prepare mask of another size" 1 err "the mask is 4x8 but the photo is 320x240"
 run prepare "$TMP/none.jpg" -o "$TMP/prep3"; check "prepare missing photo" 1 err "cannot open image"
