@@ -4,10 +4,12 @@
 #include <errno.h>
 #include <ftw.h>
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -40,6 +42,30 @@ int cli_bad_option(const char *cmd, char *const argv[], int c)
     if (c == ':')
         return cli_usage(cmd, "%s needs a value", opt);
     return cli_usage(cmd, "unknown option '%s'", opt);
+}
+
+/* path with its folder resolved (realpath), in out (n bytes); 0, or -1 when the folder
+ * does not exist */
+static int resolved(const char *path, char *out, size_t n)
+{
+    char dir[4096], real[PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    const char *base = slash ? slash + 1 : path;
+    if (slash)
+        *(slash == dir ? slash + 1 : slash) = '\0';
+    if (!realpath(slash ? dir : ".", real))
+        return -1;
+    return snprintf(out, n, "%s/%s", real, base) < (int)n ? 0 : -1;
+}
+
+int cli_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ra[PATH_MAX + 256], rb[PATH_MAX + 256];
+    return resolved(a, ra, sizeof ra) == 0 && resolved(b, rb, sizeof rb) == 0 && strcmp(ra, rb) == 0;
 }
 
 const char *cli_presets_dir(void)

@@ -25,8 +25,21 @@ int cmd_fit(int argc, char **argv);
 int cmd_seed(int argc, char **argv);
 int cmd_batch(int argc, char **argv);
 
+/* The handler main() sets for SIGINT, SIGTERM and SIGHUP: removes the temporary files of
+ * the writes under way (sq_io_remove_temps), then ends the program by the signal. */
+void cli_fatal_signal(int sig);
+
 /* mkdir -p; 0 or -1 with errno. */
 int cli_mkdirs(const char *path);
+/* The same, the first folder it made (the outermost new one) in made ("" if none); and
+ * after a run that failed, those folders removed again, from path up to made, each only
+ * if empty: a refused command leaves no empty folder behind, and never anything else. */
+int cli_mkdirs_new(const char *path, char *made, size_t n);
+void cli_rmdirs_new(const char *path, const char *made);
+
+/* 1 when a and b name the same file: the same inode if both exist, else the same path
+ * once their folders are resolved. */
+int cli_same_file(const char *a, const char *b);
 
 /* Seconds on the monotonic clock. */
 double cli_now_s(void);
@@ -58,6 +71,11 @@ int cli_load_photo(const char *photo_path, const char *mask_path, const char *li
                    SqError *err);
 void cli_photo_free(CliPhoto *in);
 
+/* dir/mask.png: prep's mask at in's photo size (to correct and pass back with --mask);
+ * left as it is when it is the mask given (mask_path). */
+SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
+                             SqError *err);
+
 /* sq_fit_prepare with what in holds (o NULL: the defaults). */
 SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *prep, SqError *err);
 
@@ -69,11 +87,13 @@ SqStatus cli_prepare(const CliPhoto *in, const SqPrepOptions *o, SqPrepared *pre
 int cli_short_strip(const SqPrepared *prep, int line_given, char *buf, size_t n);
 
 /* The centre line prep followed, in dir: line.json (a point every half body width, to
- * correct and give back with --line), unless a line was given (the user's own file, never
- * overwritten), and line.png: the prepared photo with a grid in the photo's own pixels
+ * correct and give back with --line), unless a line was given (given, read from
+ * given_path: the user's own file, never overwritten; a line.json of an earlier run
+ * there that is not it is removed, as it is not the line followed), and line.png: the prepared photo with a grid in the photo's own pixels
  * (labelled), each stretch followed (its centre line in red, its edges dotted in cyan) and
  * the line's points (given's, or line.json's) numbered within their stretch. */
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, SqError *err);
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, const char *given_path,
+                        SqError *err);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

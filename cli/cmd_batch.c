@@ -246,13 +246,15 @@ static void warn_mixed_settings(const BatchDone *done, int n)
 static int merge(char **dirs, int ndirs, Batch *b)
 {
     SqError err;
-    if (cli_mkdirs(b->outdir) != 0) {
+    char made[4096];
+    if (cli_mkdirs_new(b->outdir, made, sizeof made) != 0) {
         sq_error_set(&err, SQ_ERR_IO, b->outdir, "cannot create the output folder: %s", strerror(errno));
         return cli_fail(&err);
     }
     char outreal[PATH_MAX];
     if (!realpath(b->outdir, outreal)) {
         sq_error_set(&err, SQ_ERR_IO, b->outdir, "cannot resolve: %s", strerror(errno));
+        cli_rmdirs_new(b->outdir, made);
         return cli_fail(&err);
     }
     BatchDone *done = NULL;
@@ -355,6 +357,8 @@ static int merge(char **dirs, int ndirs, Batch *b)
         free(res);
     }
     free(done);
+    if (rc != CLI_OK) /* the folder it made, while nothing was linked into it */
+        cli_rmdirs_new(b->outdir, made);
     return rc;
 }
 

@@ -176,6 +176,10 @@ int cmd_photo(int argc, char **argv)
         sibling(out, "_truth.json", tbuf, sizeof tbuf);
         truth_path = tbuf;
     }
+    /* three files, or one would be written over another */
+    if (cli_same_file(out, mask_path) || cli_same_file(out, truth_path) || cli_same_file(mask_path, truth_path))
+        return cli_usage("photo", "the photo (%s), its mask (%s) and its truth (%s) must be three different files",
+                         out, mask_path, truth_path);
 
     SqParams p;
     if (sq_preset_load(argv[optind], &p, NULL, &err) != SQ_OK)

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -47,23 +48,73 @@ static const char help[] =
     "      --debug          save each step\n"
     "  -h, --help           show this help\n";
 
-/* Makes dir and its parents (like mkdir -p). */
-int cli_mkdirs(const char *path)
+/* Makes dir and its parents (like mkdir -p); the first folder it made, if any, in made. */
+int cli_mkdirs_new(const char *path, char *made, size_t n)
 {
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", path);
-    for (char *c = buf + 1; *c; c++) {
-        if (*c != '/')
+    if (made && n)
+        made[0] = '\0';
+    for (char *c = buf + 1;; c++) {
+        if (*c != '/' && *c != '\0')
             continue;
+        const char end = *c;
         *c = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        if (mkdir(buf, 0777) == 0) {
+            if (made && n && !made[0])
+                snprintf(made, n, "%s", buf);
+        } else if (errno != EEXIST)
             return -1;
+        if (!end)
+            break;
         *c = '/';
     }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return -1;
     struct stat st;
     return stat(buf, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+}
+
+int cli_mkdirs(const char *path)
+{
+    return cli_mkdirs_new(path, NULL, 0);
+}
+
+void cli_rmdirs_new(const char *path, const char *made)
+{
+    if (!made || !made[0] || strncmp(path, made, strlen(made)) != 0)
+        return;
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (;;) { /* from the leaf up to made, each only while empty */
+        if (rmdir(buf) != 0 || strlen(buf) <= strlen(made))
+            return;
+        char *slash = strrchr(buf, '/');
+        if (!slash)
+            return;
+        *slash = '\0';
+    }
+}
+
+SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
+                             SqError *err)
+{
+    char path[4096];
+    if (cli_pathf(path, sizeof path, "%s/mask.png", dir) != 0)
+        return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+    if (mask_path && cli_same_file(mask_path, path))
+        return SQ_OK; /* the mask given is this one: kept as it is */
+    SqImage full;
+    if (sq_image_alloc(&full, in->photo.width, in->photo.height, 1, SQ_SPACE_DATA) != 0)
+        return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for the mask");
+    for (int y = 0; y < in->photo.height; y++)
+        for (int x = 0; x < in->photo.width; x++) {
+            int mx = (int)((x + 0.5) * prep->scale), my = (int)((y + 0.5) * prep->scale);
+            mx = mx >= prep->mask.width ? prep->mask.width - 1 : mx;
+            my = my >= prep->mask.height ? prep->mask.height - 1 : my;
+            *sq_image_at(&full, x, y) = *sq_image_at(&prep->mask, mx, my);
+        }
+    SqStatus st = sq_io_write_image(path, &full, NULL, err);
+    sq_image_free(&full);
+    return st;
 }
 
 int cli_load_photo(const char *photo_path, const char *mask_path, const char *line_path, CliPhoto *in,
@@ -185,15 +236,18 @@ int cmd_prepare(int argc, char **argv)
         return cli_usage("prepare", "say where to write with -o DIR");
     char dbg[4096];
     snprintf(dbg, sizeof dbg, "%s/debug", outdir);
-    if (cli_mkdirs(debug ? dbg : outdir) != 0) {
+    char made[4096];
+    if (cli_mkdirs_new(debug ? dbg : outdir, made, sizeof made) != 0) {
         sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the folder: %s", strerror(errno));
         return cli_fail(&err);
     }
     if (debug)
         po.debug_dir = dbg;
     CliPhoto in;
-    if (cli_load_photo(argv[optind], mask_path, line_path, &in, &err) != 0)
+    if (cli_load_photo(argv[optind], mask_path, line_path, &in, &err) != 0) {
+        cli_rmdirs_new(debug ? dbg : outdir, made);
         return cli_fail(&err);
+    }
     SqPrepared prep;
     SqStatus st = cli_prepare(&in, &po, &prep, &err);
     int rc = CLI_OK;
@@ -201,25 +255,12 @@ int cmd_prepare(int argc, char **argv)
         rc = cli_fail(&err);
     } else {
         char path[4096];
-        SqImage full;
-        /* the mask at the photo's size, to correct and pass back */
-        if (sq_image_alloc(&full, in.photo.width, in.photo.height, 1, SQ_SPACE_DATA) == 0) {
-            for (int y = 0; y < in.photo.height; y++)
-                for (int x = 0; x < in.photo.width; x++) {
-                    int mx = (int)((x + 0.5) * prep.scale), my = (int)((y + 0.5) * prep.scale);
-                    mx = mx >= prep.mask.width ? prep.mask.width - 1 : mx;
-                    my = my >= prep.mask.height ? prep.mask.height - 1 : my;
-                    *sq_image_at(&full, x, y) = *sq_image_at(&prep.mask, mx, my);
-                }
-            snprintf(path, sizeof path, "%s/mask.png", outdir);
-            if (sq_io_write_image(path, &full, NULL, &err) != SQ_OK)
-                rc = cli_fail(&err);
-            sq_image_free(&full);
-        }
+        if (cli_write_full_mask(outdir, &prep, &in, mask_path, &err) != SQ_OK)
+            rc = cli_fail(&err);
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
             rc = cli_fail(&err);
-        if (rc == CLI_OK && cli_write_line(outdir, &prep, line_path ? &in.line : NULL, &err) != SQ_OK)
+        if (rc == CLI_OK && cli_write_line(outdir, &prep, line_path ? &in.line : NULL, line_path, &err) != SQ_OK)
             rc = cli_fail(&err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "photo", argv[optind]);
@@ -250,5 +291,7 @@ int cmd_prepare(int argc, char **argv)
         sq_fit_prepared_free(&prep);
     }
     cli_photo_free(&in);
+    if (rc != CLI_OK)
+        cli_rmdirs_new(debug ? dbg : outdir, made);
     return rc;
 }

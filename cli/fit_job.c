@@ -130,7 +130,7 @@ typedef struct Clock {
 } Clock;
 
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
-                              const char *line_path, const SqBodyLine *line, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
+                              const char *line_path, const CliPhoto *given, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
                               const SqFitResult *r, int size, const Clock *clock, SqError *err)
 {
     char path[4096];
@@ -201,20 +201,19 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
             sq_image_free(&mask);
         }
     }
-    if (st == SQ_OK) {
+    if (st == SQ_OK) { /* the prepared photo; not over the photo fitted, when it is this one */
         snprintf(path, sizeof path, "%s/photo.jpg", outdir);
-        st = sq_io_write_image(path, &prep->photo, NULL, err);
+        if (!cli_same_file(photo_path, path))
+            st = sq_io_write_image(path, &prep->photo, NULL, err);
     }
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/mask.png", outdir);
-        st = sq_io_write_image(path, &prep->mask, NULL, err);
-    }
+    if (st == SQ_OK)
+        st = cli_write_full_mask(outdir, prep, given, mask_path, err);
     if (st == SQ_OK) {
         snprintf(path, sizeof path, "%s/strip.png", outdir);
         st = sq_io_write_image(path, &prep->strip, NULL, err);
     }
     if (st == SQ_OK)
-        st = cli_write_line(outdir, prep, line_path ? line : NULL, err);
+        st = cli_write_line(outdir, prep, line_path ? &given->line : NULL, line_path, err);
     if (st != SQ_OK)
         return st;
 
@@ -406,8 +405,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     free(text);
     if (st != SQ_OK)
         return st;
-    return cli_fit_report(outdir, photo_path, r, short_strip ? warning : NULL, clock->prepare, clock->search, total,
-                          err);
+    return cli_fit_report(outdir, photo_path, r, short_strip ? warning : NULL, line_path != NULL, clock->prepare,
+                          clock->search, total, err);
 }
 
 void cli_fit_job_init(CliFitJob *job)
@@ -492,8 +491,11 @@ void cli_fit_job_options_done(CliFitJob *job)
 SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
-    if (cli_mkdirs(job->outdir) != 0)
+    char made[4096];
+    if (cli_mkdirs_new(job->outdir, made, sizeof made) != 0)
         return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot create the output folder: %s", strerror(errno));
+    if (access(job->outdir, W_OK) != 0) /* found now, not after the search */
+        return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot write into the output folder: %s", strerror(errno));
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
     Clock clock = {.t0 = cli_now_s(), .budget = job->fo.budget};
@@ -542,7 +544,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
             fputs("\n", stderr);
     }
     if (st == SQ_OK)
-        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in.line, &prep, &target, &fo, &res, job->size, &clock, err);
+        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in, &prep, &target, &fo, &res, job->size, &clock, err);
     if (st == SQ_OK) {
         if (x.checkpoint_error[0] && !job->quiet)
             fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);
@@ -556,5 +558,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     sq_fit_result_free(&res);
     sq_fit_prepared_free(&prep);
     cli_photo_free(&in);
+    if (st != SQ_OK) /* a refused photo leaves no empty folder */
+        cli_rmdirs_new(job->outdir, made);
     return st;
 }

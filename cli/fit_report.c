@@ -102,7 +102,7 @@ static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
 }
 
 SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r, const char *warning,
-                        double prepare_s, double search_s, double total_s, SqError *err)
+                        int line_given, double prepare_s, double search_s, double total_s, SqError *err)
 {
     CliBuf b = {0};
     cli_buf_put(&b, "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama fit: ");
@@ -126,9 +126,10 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         cli_buf_put(&b, ".</p>\n");
     }
     cli_buf_put(&b, "<div>\n");
-    static const char *const pics[][2] = {
+    const char *const pics[][2] = {
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},
-        {"line.png", "centre line followed (line.json: correct it and pass it back with --line)"},
+        {"line.png", line_given ? "centre line followed (the body line given)"
+                                : "centre line followed (line.json: correct it and pass it back with --line)"},
         {"strip.png", "straightened body"}, {"fitted_strip.png", "the fit, seen the same way"},
         {"basecolor.png", "fitted texture (base colour)"}, {"normal.png", "normal map"},
         {"preview.png", "preview on a snake body, at the fitted view scale"}};

@@ -1,9 +1,11 @@
 /* line.json and line.png: the centre line a preparation followed, written to be corrected
  * and given back, and drawn over the photo to correct it by eye. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "squama/io.h"
@@ -99,12 +101,18 @@ static SqStatus line_picture(const SqPrepared *prep, const SqBodyLine *L, const 
     return st;
 }
 
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, SqError *err)
+SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, const char *given_path,
+                        SqError *err)
 {
     char path[4096];
     SqBodyLine own = {0};
     SqStatus st = SQ_OK;
-    if (!given) {
+    if (given) { /* an earlier run's line.json is not the line followed now */
+        if (cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
+            return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+        if (!(given_path && cli_same_file(given_path, path)) && unlink(path) != 0 && errno != ENOENT)
+            return sq_error_set(err, SQ_ERR_IO, path, "cannot remove an earlier run's line: %s", strerror(errno));
+    } else {
         st = sq_fit_prepared_line(prep, &own, err);
         if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, dir, "path too long");

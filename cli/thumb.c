@@ -1,4 +1,5 @@
 /* squama batch's thumbnails (see thumb.h). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -73,6 +74,23 @@ SqStatus cli_thumbnail(const char *src, const char *mask, const char *dst, SqErr
     if (mask && (st = sq_io_read_image(mask, NULL, &m, NULL, err)) != SQ_OK) {
         sq_image_free(&img);
         return st;
+    }
+    /* a fit's mask.png is the photo's own size, its photo.jpg the prepared one's: the
+     * same picture, the mask taken to the photo's pixels */
+    if (mask && (m.width != img.width || m.height != img.height) &&
+        fabs((double)m.width * img.height / ((double)m.height * img.width) - 1) < 0.01) {
+        SqImage r;
+        if (sq_image_alloc(&r, img.width, img.height, 1, SQ_SPACE_DATA) != 0) {
+            sq_image_free(&img);
+            sq_image_free(&m);
+            return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
+        }
+        for (int y = 0; y < img.height; y++)
+            for (int x = 0; x < img.width; x++)
+                *sq_image_at(&r, x, y) = *sq_image_at(&m, (int)((x + 0.5) * m.width / img.width),
+                                                      (int)((y + 0.5) * m.height / img.height));
+        sq_image_free(&m);
+        m = r;
     }
     if (mask && (m.width != img.width || m.height != img.height))
         st = sq_error_set(err, SQ_ERR_INVALID, mask, "the mask is %dx%d but the photo is %dx%d", m.width, m.height,

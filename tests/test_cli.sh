@@ -147,6 +147,11 @@ run photo "$SRC/presets/thesis/table_4_4_spots.json"; check "photo without -o" 2
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --coil 2; check "photo bad coil" 2 err "--coil must be in [0, 1]"
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --seed 1e3; check "photo --seed as a real" 2 err "--seed must be 0 to 2147483647, got '1e3'"
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --quality 50.5; check "photo --quality not whole" 2 err "--quality must be 1 to 100, got '50.5'"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/same.jpg" --mask "$TMP/same.jpg"
+check "photo and mask one file" 2 err "must be three different files"
+run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/same.jpg" --truth "$TMP/./same.jpg"
+check "photo and truth one file" 2 err "must be three different files"
+[ -e "$TMP/same.jpg" ] && { echo "FAIL: photo wrote a refused file"; fails=$((fails + 1)); }
 run photo "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/p.jpg" --size 320x240 --seed 4 --backdrop litter --noise 0.01
 check "photo" 0 out "wrote $TMP/p.jpg, $TMP/p_mask.png, $TMP/p_truth.json"
 [ -s "$TMP/p.jpg" ] && [ -s "$TMP/p_mask.png" ] || { echo "FAIL: photo files missing"; fails=$((fails + 1)); }
@@ -330,6 +335,34 @@ check "fit --line" 0
 [ -e "$TMP/fitl/line.json" ] && { echo "FAIL: fit --line wrote line.json"; fails=$((fails + 1)); }
 grep -q '"mask_source": "line"' "$TMP/fitl/fit.json" && grep -q "\"line\": \"$TMP/fit/line.json\"" "$TMP/fitl/fit.json" ||
   { echo "FAIL: fit.json does not name the line"; fails=$((fails + 1)); }
+# a line given into a folder with an earlier automatic line.json: that one goes (it is not
+# the line followed), the report says the line was given; the folder's own line.json given
+# back stays as it is
+cp -r "$TMP/fit" "$TMP/fitl2" && cp -r "$TMP/fit" "$TMP/fitl3"
+run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl2" --evals 100 --size 64 -j 2 -q
+check "fit --line over an earlier fit" 0
+[ -e "$TMP/fitl2/line.json" ] && { echo "FAIL: a stale line.json left beside the line followed"; fails=$((fails + 1)); }
+grep -q "the body line given" "$TMP/fitl2/report.html" || { echo "FAIL: report does not say the line was given"; fails=$((fails + 1)); }
+run fit "$TMP/p.jpg" --line "$TMP/fitl3/line.json" -o "$TMP/fitl3" --evals 100 --size 64 -j 2 -q
+check "fit --line DIR/line.json -o DIR" 0
+cmp -s "$TMP/fit/line.json" "$TMP/fitl3/line.json" || { echo "FAIL: the line given was changed"; fails=$((fails + 1)); }
+# the photo fitted is the folder's photo.jpg: not written over; mask.png at the photo's
+# size (prepared at 256 px here), so it goes back with --mask
+mkdir -p "$TMP/ow" && cp "$TMP/p.jpg" "$TMP/ow/photo.jpg"
+run fit "$TMP/ow/photo.jpg" -o "$TMP/ow" --evals 100 --size 64 -j 2 -q --work-size 256 --categories none
+check "fit DIR/photo.jpg -o DIR" 0
+cmp -s "$TMP/p.jpg" "$TMP/ow/photo.jpg" || { echo "FAIL: fit wrote over the photo it fitted"; fails=$((fails + 1)); }
+run prepare "$TMP/p.jpg" --mask "$TMP/ow/mask.png" -o "$TMP/owp"
+check "a fit's mask.png given back" 0 out "given mask"
+# refused runs leave no folder they made (and keep one that was there)
+run fit "$TMP/none.jpg" -o "$TMP/gone/fit" --evals 100; check "fit refused" 1 err "cannot open image"
+run prepare "$TMP/none.jpg" -o "$TMP/gone/prep"; check "prepare refused" 1 err "cannot open image"
+run score "$TMP/none.jpg" --debug "$TMP/gone/dbg" "$SRC/presets/thesis/table_4_4_spots.json"; check "score refused" 1 err "cannot open image"
+run batch --merge "$TMP/nowhere" -o "$TMP/gone/merged"; check "merge refused" 1 err "cannot read the batch folder"
+[ -e "$TMP/gone" ] && { echo "FAIL: a refused run left a folder"; ls -R "$TMP/gone"; fails=$((fails + 1)); }
+mkdir -p "$TMP/kept"
+run prepare "$TMP/none.jpg" -o "$TMP/kept"; check "prepare refused into a folder of yours" 1 err "cannot open image"
+[ -d "$TMP/kept" ] || { echo "FAIL: a refused run removed a folder it did not make"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json
 check "fit --json" 0 out '"stage"'
 if command -v python3 >/dev/null; then
