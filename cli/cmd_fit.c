@@ -80,7 +80,7 @@ static void on_sigint(int sig)
     (void)sig;
     interrupted = 1;
     stop_flag = 1;
-    signal(SIGINT, SIG_DFL); /* a second Ctrl-C ends the program */
+    signal(SIGINT, cli_fatal_signal); /* a second Ctrl-C ends the program */
 }
 
 /* Loads DIR/checkpoint into seed candidates. */

@@ -1,9 +1,11 @@
 /* squama: fits a procedural snake-skin texture generator to photos.
  * `squama <command> [options]`; every command has --help. */
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
+#include "squama/io.h"
 
 static const CliCommand commands[] = {
     {"params", "list the generator's parameters (table, --json or --markdown)", cmd_params},
@@ -38,8 +40,25 @@ static void usage(FILE *f)
             "'squama <command> --help' describes a command.\n");
 }
 
+/* SIGINT, SIGTERM or SIGHUP: the files being written are removed, then the signal ends
+ * the program as it would have (cli.h). */
+void cli_fatal_signal(int sig)
+{
+    sq_io_remove_temps();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 int main(int argc, char **argv)
 {
+    static const int fatal[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) {
+        struct sigaction sa = {0}, old;
+        sa.sa_handler = cli_fatal_signal;
+        sigemptyset(&sa.sa_mask);
+        if (sigaction(fatal[i], NULL, &old) == 0 && old.sa_handler != SIG_IGN) /* nohup's stays */
+            sigaction(fatal[i], &sa, NULL);
+    }
     if (argc < 2)
         return cli_usage(NULL, "no command given");
     const char *cmd = argv[1];

@@ -14,6 +14,51 @@
 #include "io_internal.h"
 #include "squama/io.h"
 
+/* The temporary files being written, for sq_io_remove_temps in a signal handler: a slot
+ * is 0 free, 1 being filled, 2 holding a name. Lock-free, so a handler that interrupts a
+ * write never waits; a name too long for a slot, or a table full, goes unregistered. */
+enum { TEMP_SLOTS = 64, TEMP_NAME = 1024 };
+static struct {
+    atomic_int state;
+    char name[TEMP_NAME];
+} temps[TEMP_SLOTS];
+
+static void temp_register(const char *tmp)
+{
+    if (strlen(tmp) >= TEMP_NAME)
+        return;
+    for (int i = 0; i < TEMP_SLOTS; i++) {
+        int free_slot = 0;
+        if (atomic_compare_exchange_strong(&temps[i].state, &free_slot, 1)) {
+            strcpy(temps[i].name, tmp);
+            atomic_store(&temps[i].state, 2);
+            return;
+        }
+    }
+}
+
+static void temp_forget(const char *tmp)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (atomic_load(&temps[i].state) == 2 && strcmp(temps[i].name, tmp) == 0) {
+            atomic_store(&temps[i].state, 0);
+            return;
+        }
+}
+
+void sq_io_remove_temps(void)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (atomic_load(&temps[i].state) == 2)
+            unlink(temps[i].name);
+}
+
+void sq__io_drop_temp(const char *tmp)
+{
+    unlink(tmp);
+    temp_forget(tmp);
+}
+
 int sq__io_make_temp(const char *path, char *tmp, size_t size)
 {
     static atomic_uint counter;
@@ -27,6 +72,7 @@ int sq__io_make_temp(const char *path, char *tmp, size_t size)
         int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0) {
             close(fd);
+            temp_register(tmp);
             return 0;
         }
         if (errno != EEXIST)
@@ -44,9 +90,10 @@ SqStatus sq__io_commit(const char *tmp, const char *path, SqError *err)
     }
     if (rename(tmp, path) != 0) {
         int e = errno;
-        unlink(tmp);
+        sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
     }
+    temp_forget(tmp);
     return SQ_OK;
 }
 
@@ -59,7 +106,7 @@ SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqErro
     int fd = open(tmp, O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) {
         int e = errno;
-        unlink(tmp);
+        sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
     }
     const char *p = data;
@@ -71,7 +118,7 @@ SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqErro
         if (w <= 0) {
             int e = w < 0 ? errno : EIO;
             close(fd);
-            unlink(tmp);
+            sq__io_drop_temp(tmp);
             return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
         }
         p += w;
@@ -79,7 +126,7 @@ SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqErro
     }
     if (close(fd) != 0) {
         int e = errno;
-        unlink(tmp);
+        sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
     }
     return sq__io_commit(tmp, path, err);

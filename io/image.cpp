@@ -204,7 +204,7 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
               out->write_image(TypeDesc::FLOAT, px.data()) && out->close();
     if (!ok) {
         std::string msg = first_line(out ? out->geterror() : OIIO::geterror());
-        unlink(tmp);
+        sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: %s", msg.c_str());
     }
     return sq__io_commit(tmp, path, err);

@@ -17,6 +17,9 @@ int sq__io_make_temp(const char *path, char *tmp, size_t size);
 /* Renames tmp over path after fsync; on failure removes tmp and fills err. */
 SqStatus sq__io_commit(const char *tmp, const char *path, SqError *err);
 
+/* Removes tmp, a write that failed (sq_io_remove_temps forgets it too). */
+void sq__io_drop_temp(const char *tmp);
+
 #ifdef __cplusplus
 }
 #endif

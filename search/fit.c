@@ -692,8 +692,8 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
             c[in_round[j]] = batch[j];
         scored += m;
         rounds_done = upto;
-        if (f->o.budget > 0 && elapsed(f) >= 0.3 * f->o.budget)
-            break;
+        if ((f->o.budget > 0 && elapsed(f) >= 0.3 * f->o.budget) || (f->o.stop && *f->o.stop))
+            break; /* a stop (Ctrl-C) at the end of a round, not of the screening */
     }
     free(batch);
     free(in_round);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "sq_test.h"
+#include "io_internal.h"
 #include "squama/io.h"
 
 static void make_gradient(SqImage *img, int w, int h, int ch, SqColorSpace space)
@@ -329,6 +330,26 @@ static void atomic_writes_and_write_errors(void **state)
     assert_no_temp_files();
 }
 
+/* A write under way (its temporary file made, not yet renamed) is what a signal handler
+ * removes with sq_io_remove_temps; the files already written stay, and a temporary file
+ * renamed into place is forgotten (not removed under its old name's reuse). */
+static void interrupted_writes_leave_no_temp_files(void **state)
+{
+    (void)state;
+    char path[1024], tmp[1200], done[1024];
+    struct stat st;
+    SqError err;
+    tmp_path(path, sizeof path, "half.png");
+    assert_int_equal(sq__io_make_temp(path, tmp, sizeof tmp), 0);
+    assert_int_equal(stat(tmp, &st), 0);
+    assert_int_equal(sq_io_write_file(tmp_path(done, sizeof done, "whole.txt"), "x", 1, &err), SQ_OK);
+    sq_io_remove_temps();
+    assert_int_not_equal(stat(tmp, &st), 0);
+    assert_int_equal(stat(done, &st), 0);
+    assert_int_equal(stat(path, &st) == 0, 0);
+    assert_no_temp_files();
+}
+
 /* Pixels of img that differ from the flat grey v; their bounding box in *box (x0, y0,
  * x1, y1). */
 static int changed(const SqImage *img, float v, int box[4])
@@ -426,6 +447,7 @@ int main(void)
         cmocka_unit_test(pixel_limit_checked_before_decoding),
         cmocka_unit_test(corrupt_files_refused_cleanly),
         cmocka_unit_test(atomic_writes_and_write_errors),
+        cmocka_unit_test(interrupted_writes_leave_no_temp_files),
         cmocka_unit_test(text_drawn_and_clipped_at_the_edges),
         cmocka_unit_test(real_photos_decode),
     };

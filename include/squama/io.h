@@ -58,6 +58,11 @@ SqStatus sq_io_write_image(const char *path, const SqImage *img, const SqWriteOp
 SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *text,
                          const float color[3], SqError *err);
 
+/* Removes the temporary files of the writes under way in this process (each write goes
+ * to a temporary file renamed into place when whole). Async-signal-safe: for a handler
+ * of SIGINT or SIGTERM, so that an interrupted program leaves no half-written file. */
+void sq_io_remove_temps(void);
+
 /* Writes len bytes atomically (temporary file, fsync, rename). */
 SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqError *err);
 
