@@ -19,6 +19,7 @@
 
 #include "batch.h"
 #include "cli.h"
+#include "squama/io.h"
 
 static const char help[] =
     "usage: squama batch MANIFEST -o DIR [--budget 60s | --evals N] [--jobs J] [--shard I/N] [options]\n"
@@ -242,6 +243,49 @@ static void warn_mixed_settings(const BatchDone *done, int n)
     }
 }
 
+/* Appends to rows and res (after the n there) the rows the folders' catalogues list as
+ * failed that no row folder holds: the manifest's bad rows (no, a malformed or a repeated
+ * id, an unknown category), which a merge would otherwise drop. A row is its id and its
+ * manifest line, each once however many shards list it. Returns how many; their strings
+ * stay in cats. */
+static int merge_bad_rows(const SqCsv *cats, int ncats, CliManifestRow *rows, BatchResult *res, int n)
+{
+    static const char *const names[] = {"id", "species", "expected", "status", "error", "line"};
+    int added = 0;
+    for (int k = 0; k < ncats; k++) {
+        if (cats[k].nrecords < 1)
+            continue;
+        const SqCsvRecord *h = &cats[k].records[0];
+        int col[6] = {-1, -1, -1, -1, -1, -1};
+        for (int f = 0; f < h->nfields; f++)
+            for (int q = 0; q < 6; q++)
+                if (strcmp(h->fields[f], names[q]) == 0)
+                    col[q] = f;
+        if (col[0] < 0 || col[3] < 0 || col[4] < 0 || col[5] < 0)
+            continue; /* not a catalogue */
+        for (int r = 1; r < cats[k].nrecords; r++) {
+            const SqCsvRecord *rec = &cats[k].records[r];
+            const char *f[6];
+            for (int q = 0; q < 6; q++)
+                f[q] = col[q] >= 0 && col[q] < rec->nfields ? rec->fields[col[q]] : "";
+            if (strcmp(f[3], "error") != 0)
+                continue;
+            const int line = atoi(f[5]);
+            int known = 0;
+            for (int i = 0; i < n + added && !known; i++)
+                known = rows[i].line == line && strcmp(rows[i].id, f[0]) == 0;
+            if (known)
+                continue;
+            rows[n + added] = (CliManifestRow){.line = line, .id = f[0], .species = f[1],
+                                               .expected = cli_manifest_category(f[2])};
+            res[n + added] = (BatchResult){.status = BATCH_ERROR, .fitted = -1};
+            snprintf(res[n + added].error, sizeof res[n + added].error, "%s", f[4]);
+            added++;
+        }
+    }
+    return added;
+}
+
 /* squama batch --merge DIR... -o OUT */
 static int merge(char **dirs, int ndirs, Batch *b)
 {
@@ -258,7 +302,12 @@ static int merge(char **dirs, int ndirs, Batch *b)
         return cli_fail(&err);
     }
     BatchDone *done = NULL;
+    SqCsv *cats = calloc((size_t)ndirs, sizeof *cats); /* each folder's catalogue: its bad rows */
     int n = 0, cap = 0, rc = CLI_OK;
+    if (!cats) {
+        sq_error_set(&err, SQ_ERR_NOMEM, b->outdir, "out of memory");
+        rc = cli_fail(&err);
+    }
     for (int k = 0; k < ndirs && rc == CLI_OK; k++) {
         char real[PATH_MAX];
         DIR *d = realpath(dirs[k], real) ? opendir(real) : NULL;
@@ -267,6 +316,11 @@ static int merge(char **dirs, int ndirs, Batch *b)
             rc = cli_fail(&err);
             break;
         }
+        char cpath[PATH_MAX + 16];
+        SqError cerr;
+        if (cli_pathf(cpath, sizeof cpath, "%s/catalogue.csv", real) == 0 && access(cpath, F_OK) == 0 &&
+            sq_io_csv_read(cpath, &cats[k], &cerr) != SQ_OK && !b->quiet)
+            fprintf(stderr, "squama: warning: the bad rows listed in %s are left out: %s\n", cpath, cerr.what);
         int same = strcmp(real, outreal) == 0;
         struct dirent *e;
         while ((e = readdir(d)) && rc == CLI_OK) {
@@ -331,8 +385,11 @@ static int merge(char **dirs, int ndirs, Batch *b)
             }
         if (!b->quiet)
             warn_mixed_settings(done, n);
-        CliManifestRow *rows = calloc(n > 0 ? (size_t)n : 1, sizeof *rows);
-        BatchResult *res = calloc(n > 0 ? (size_t)n : 1, sizeof *res);
+        int nbad = 0;
+        for (int k = 0; k < ndirs; k++)
+            nbad += cats[k].nrecords;
+        CliManifestRow *rows = calloc((size_t)(n + nbad) + 1, sizeof *rows);
+        BatchResult *res = calloc((size_t)(n + nbad) + 1, sizeof *res);
         if (!rows || !res) {
             sq_error_set(&err, SQ_ERR_NOMEM, b->outdir, "out of memory");
             rc = cli_fail(&err);
@@ -343,20 +400,37 @@ static int merge(char **dirs, int ndirs, Batch *b)
                                        .body_line = done[i].body_line[0] ? done[i].body_line : NULL, .species = done[i].species,
                                        .expected = done[i].expected};
             res[i] = done[i].r;
-            res[i].row = i;
         }
-        if (rc == CLI_OK && batch_write_catalogue(b->outdir, rows, res, n, &err) != SQ_OK)
+        const int nrows = rc == CLI_OK ? n + merge_bad_rows(cats, ndirs, rows, res, n) : n;
+        /* manifest order: by line, then id */
+        for (int i = 1; i < nrows; i++)
+            for (int j = i; j > 0 && (rows[j].line < rows[j - 1].line ||
+                                      (rows[j].line == rows[j - 1].line && strcmp(rows[j].id, rows[j - 1].id) < 0));
+                 j--) {
+                const CliManifestRow t = rows[j];
+                rows[j] = rows[j - 1];
+                rows[j - 1] = t;
+                const BatchResult u = res[j];
+                res[j] = res[j - 1];
+                res[j - 1] = u;
+            }
+        for (int i = 0; i < nrows; i++)
+            res[i].row = i;
+        if (rc == CLI_OK && batch_write_catalogue(b->outdir, rows, res, nrows, &err) != SQ_OK)
             rc = cli_fail(&err);
         if (rc == CLI_OK) {
             b->rows = rows;
             b->results = res;
-            b->nrows = n;
-            summary(b, 0, n);
+            b->nrows = nrows;
+            summary(b, 0, nrows);
         }
         free(rows);
         free(res);
     }
     free(done);
+    for (int k = 0; cats && k < ndirs; k++)
+        sq_io_csv_free(&cats[k]);
+    free(cats);
     if (rc != CLI_OK) /* the folder it made, while nothing was linked into it */
         cli_rmdirs_new(b->outdir, made);
     return rc;

@@ -132,6 +132,12 @@ for r in rows:
 assert "category differs, <a href='stripes/kinds.png'>" in html and "stripes/kinds/spots.json" not in html
 PY
   grep -q '"id":"gone".*"status":"error"' "$out" || fail "no JSON line for the missing photo"
+  # a merge keeps the manifest's bad rows (no folder of their own), in place and elsewhere
+  cut -d, -f1,12-14 "$TMP/b/catalogue.csv" >"$TMP/b_rows.csv"
+  run batch --merge "$TMP/b" -o "$TMP/bm"; check "merge with bad rows" 0 out "9 rows: 2 ok, 7 failed"
+  cut -d, -f1,12-14 "$TMP/bm/catalogue.csv" | cmp -s - "$TMP/b_rows.csv" || fail "merged elsewhere: $(cut -d, -f1,12,14 "$TMP/bm/catalogue.csv")"
+  run batch --merge "$TMP/b" -o "$TMP/b"; check "merge in place with bad rows" 0 out "9 rows: 2 ok, 7 failed"
+  cut -d, -f1,12-14 "$TMP/b/catalogue.csv" | cmp -s - "$TMP/b_rows.csv" || fail "merged in place: $(cut -d, -f1,12,14 "$TMP/b/catalogue.csv")"
 
   # resume: a row killed before its rename (its folder still .tmp-); that row is fitted
   # again (and the 3 rows that failed to load are tried again), the finished one read back
