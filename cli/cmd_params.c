@@ -60,7 +60,7 @@ static void fmt_range(const SqParamSpec *s, double lo, double hi, char *buf, siz
     else if (s->type == SQ_PT_ENUM)
         snprintf(buf, n, "%s..%s", s->choices[(int)lo], s->choices[(int)hi]);
     else
-        snprintf(buf, n, "%.6g..%.6g", lo, hi);
+        snprintf(buf, n, "%.10g..%.10g", lo, hi);
 }
 
 static void print_table(const SqParams *def, int nf, char **filters)

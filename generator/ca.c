@@ -276,11 +276,11 @@ SqStatus sq_ca_load(const char *path, SqCa *out, SqError *err)
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
     }
     size_t n = fread(buf, 1, MAX + 1, f);
-    int bad = ferror(f);
+    const int bad = ferror(f), e = errno;
     fclose(f);
     SqStatus st;
     if (bad)
-        st = sq_error_set(err, SQ_ERR_IO, path, "read error");
+        st = sq_error_set(err, SQ_ERR_IO, path, "cannot read: %s", strerror(e));
     else if (n > MAX)
         st = sq_error_set(err, SQ_ERR_LIMIT, path, "a descriptor file over 1 MiB is not plausible");
     else

@@ -182,7 +182,7 @@ static SqStatus field_validate(const void *f, const SqParamSpec *s, const char *
         int v = *(const int *)f;
         if (v < s->min || v > s->max)
             return sq_error_set(err, SQ_ERR_INVALID, name,
-                                "%s is %d, outside its range [%.9g, %.9g]", name, v, s->min,
+                                "%s is %d, outside its range [%.10g, %.10g]", name, v, s->min,
                                 s->max);
         break;
     }
@@ -196,7 +196,7 @@ static SqStatus field_validate(const void *f, const SqParamSpec *s, const char *
                                     name);
             if (v[c] < s->min || v[c] > s->max)
                 return sq_error_set(err, SQ_ERR_INVALID, name,
-                                    "%s is %.9g, outside its range [%.9g, %.9g]", name, v[c],
+                                    "%s is %.10g, outside its range [%.10g, %.10g]", name, v[c],
                                     s->min, s->max);
         }
         break;

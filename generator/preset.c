@@ -93,7 +93,7 @@ static SqStatus fail(const Ctx *c, SqStatus st, const char *key, const char *fmt
 /* "a string", "an array", ... for messages about wrong types. */
 static const char *describe(const cJSON *v, char *buf, size_t n)
 {
-    if (cJSON_IsNumber(v)) snprintf(buf, n, "%.9g", v->valuedouble);
+    if (cJSON_IsNumber(v)) snprintf(buf, n, "%.10g", v->valuedouble);
     else if (cJSON_IsString(v)) snprintf(buf, n, "the string \"%.40s\"", v->valuestring);
     else if (cJSON_IsTrue(v)) snprintf(buf, n, "true");
     else if (cJSON_IsFalse(v)) snprintf(buf, n, "false");
@@ -107,7 +107,7 @@ static const char *describe(const cJSON *v, char *buf, size_t n)
 static const char *range_hint(const SqParamSpec *s, char *buf, size_t n)
 {
     if (s->smin != s->min || s->smax != s->max)
-        snprintf(buf, n, "; suggested %.9g to %.9g", s->smin, s->smax);
+        snprintf(buf, n, "; suggested %.10g to %.10g", s->smin, s->smax);
     else
         buf[0] = '\0';
     return buf;
@@ -125,13 +125,13 @@ static SqStatus get_number(const Ctx *c, const SqParamSpec *s, const cJSON *v, c
     char got[80], hint[80], name[160];
     field_name(c, s, name, sizeof name);
     if (!cJSON_IsNumber(v))
-        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s must be a number in [%.9g, %.9g], got %s",
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s must be a number in [%.10g, %.10g], got %s",
                     name, what, s->min, s->max, describe(v, got, sizeof got));
     double d = v->valuedouble;
     if (!isfinite(d))
         return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is not a finite number", name, what);
     if (d < s->min || d > s->max)
-        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is %.9g, outside its range [%.9g, %.9g]%s",
+        return fail(c, SQ_ERR_INVALID, s->name, "\"%s\"%s is %.10g, outside its range [%.10g, %.10g]%s",
                     name, what, d, s->min, s->max, range_hint(s, hint, sizeof hint));
     *out = d;
     return SQ_OK;
@@ -257,7 +257,7 @@ static SqStatus set_field(const Ctx *c, const SqParamSpec *s, const cJSON *v, vo
     case SQ_PT_INT:
         if (cJSON_IsNumber(v) && isfinite(v->valuedouble) &&
             v->valuedouble != floor(v->valuedouble))
-            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be an integer in [%.9g, %.9g], got %.9g",
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be an integer in [%.10g, %.10g], got %.10g",
                         name, s->min, s->max, v->valuedouble);
         if ((st = get_number(c, s, v, "", &d)) != SQ_OK)
             return st;
@@ -291,7 +291,7 @@ static SqStatus set_field(const Ctx *c, const SqParamSpec *s, const cJSON *v, vo
         int n = cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
         int ok = s->type == SQ_PT_VEC2 ? n == 2 : (n == 3 || n == 4);
         if (!ok)
-            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be %s with components in [%.9g, %.9g], got %s",
+            return fail(c, SQ_ERR_INVALID, s->name, "\"%s\" must be %s with components in [%.10g, %.10g], got %s",
                         name,
                         s->type == SQ_PT_VEC2 ? "an array [x, y]" : "an array [r, g, b, a] (or [r, g, b])",
                         s->min, s->max, describe(v, got, sizeof got));
@@ -592,11 +592,11 @@ SqStatus sq_preset_load(const char *path, SqParams *out, SqPresetInfo *info, SqE
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
     }
     size_t n = fread(buf, 1, (size_t)SQ_PRESET_MAX_BYTES + 1, f);
-    int bad = ferror(f);
+    const int bad = ferror(f), e = errno;
     fclose(f);
     SqStatus st;
     if (bad)
-        st = sq_error_set(err, SQ_ERR_IO, path, "cannot read preset");
+        st = sq_error_set(err, SQ_ERR_IO, path, "cannot read preset: %s", strerror(e));
     else if (n > (size_t)SQ_PRESET_MAX_BYTES)
         st = sq_error_set(err, SQ_ERR_LIMIT, path, "preset larger than %d bytes",
                           SQ_PRESET_MAX_BYTES);

@@ -140,6 +140,11 @@ SqStatus sq_io_read_file(const char *path, size_t max_bytes, char **data, size_t
     FILE *f = fopen(path, "rb");
     if (!f)
         return sq_error_set(err, SQ_ERR_IO, path, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot open: it is a folder");
+    }
     size_t cap = 4096, n = 0;
     char *buf = malloc(cap + 1);
     while (buf) {
@@ -160,13 +165,13 @@ SqStatus sq_io_read_file(const char *path, size_t max_bytes, char **data, size_t
         if (r == 0)
             break;
     }
-    int bad = ferror(f);
+    const int bad = ferror(f), e = errno;
     fclose(f);
     if (!buf)
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory reading the file");
     if (bad) {
         free(buf);
-        return sq_error_set(err, SQ_ERR_IO, path, "read error");
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot read: %s", strerror(e));
     }
     if (n > max_bytes) {
         free(buf);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -42,6 +43,9 @@ SqStatus read_image(const char *path, const SqReadOptions *opt, SqImage *rgba, S
                                                       : (long long)SQ_IO_DEFAULT_MAX_PIXELS;
     if (access(path, R_OK) != 0)
         return sq_error_set(err, SQ_ERR_IO, path, "cannot open image: %s", std::strerror(errno));
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot open image: it is a folder");
 
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1); // keep colours as stored beside alpha

@@ -206,6 +206,11 @@ run prepare "$TMP/p.jpg" -o "$TMP/prepm" --line; check "prepare --line without a
 run prepare "$TMP/p.jpg" --mask "$SRC/tests/data/orient6.jpg" -o "$TMP/prep2"
 check "prepare mask of another size" 1 err "the mask is 4x8 but the photo is 320x240"
 run prepare "$TMP/none.jpg" -o "$TMP/prep3"; check "prepare missing photo" 1 err "cannot open image"
+mkdir -p "$TMP/afolder.jpg" "$TMP/afolder.json"
+run prepare "$TMP/afolder.jpg" -o "$TMP/prep3"; check "prepare a folder" 1 err "cannot open image: it is a folder ($TMP/afolder.jpg)"
+run presets validate "$TMP/afolder.json"; check "validate a folder" 1 err "cannot read preset: Is a directory"
+printf '{"format": "squama-preset/1", "Seed": 2147483648}' >"$TMP/seed.json"
+run presets validate "$TMP/seed.json"; check "an integer out of range, printed whole" 1 err '"Seed" is 2147483648, outside its range [0, 2147483647]'
 run score "$TMP/p.jpg"; check "score without presets" 2 err "give a PHOTO and at least one PRESET"
 run score "$TMP/p.jpg" --mask "$TMP/p_mask.png" "$SRC/presets/thesis/table_4_4_spots.json" "$SRC/presets/thesis/table_4_2_micrurus_altirostris.json"
 check "score table" 0 out "palette histogram     shape     along    across  preset" out "table_4_4_spots.json"
