@@ -96,13 +96,11 @@ double cli_parse_time(const char *s)
     double v = strtod(s, &end);
     if (end == s || !(v > 0) || !isfinite(v))
         return -1;
-    if (*end == 's' && end[1] == 0)
-        return v;
-    if (*end == 'm' && end[1] == 0)
-        return 60 * v;
-    if (*end == 'h' && end[1] == 0)
-        return 3600 * v;
-    return *end ? -1 : v;
+    if (*end && end[1] == 0)
+        v *= *end == 's' ? 1 : *end == 'm' ? 60 : *end == 'h' ? 3600 : -1;
+    else if (*end)
+        return -1;
+    return v > 0 && v <= 7 * 24 * 3600.0 ? v : -1;
 }
 
 /* Right after strtol or strtod (errno 0 before): they skip leading spaces, stop at the first

@@ -110,7 +110,8 @@ int cli_bad_option(const char *cmd, char *const argv[], int c);
 /* Parses "N" or "WxH" with both sides in [lo, hi]; 1 on success. */
 int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);
 
-/* A time: "60", "60s", "2m", "1.5m", "1h" -> seconds; -1 when malformed or not > 0. */
+/* A time: "60", "60s", "2m", "1.5m", "1h" -> seconds; -1 when malformed, not > 0 or over
+ * a week. */
 double cli_parse_time(const char *s);
 
 /* An option's value, all of it, as a decimal integer in [lo, hi]: 0, or -1 with err (when

@@ -111,8 +111,9 @@ static int slurm_shard(int *i, int *n)
     const char *min = getenv("SLURM_ARRAY_TASK_MIN");
     if (!id || !*id)
         return 0;
-    long t = strtol(id, NULL, 10), c = count ? strtol(count, NULL, 10) : 0, m = min ? strtol(min, NULL, 10) : 0;
-    if (c < 1 || t - m < 0 || t - m >= c) {
+    char none[] = "", *e1, *e2 = none, *e3 = none;
+    long t = strtol(id, &e1, 10), c = count ? strtol(count, &e2, 10) : 0, m = min ? strtol(min, &e3, 10) : 0;
+    if (*e1 || *e2 || *e3 || c < 1 || t - m < 0 || t - m >= c) { /* not numbers, or no shard */
         fprintf(stderr,
                 "squama: SLURM_ARRAY_TASK_ID %s with SLURM_ARRAY_TASK_MIN %s and SLURM_ARRAY_TASK_COUNT %s is no "
                 "shard I/N (give --shard I/N; arrays must be contiguous, e.g. --array=0-7)\n",

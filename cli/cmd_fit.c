@@ -94,6 +94,10 @@ static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, doub
         return -1;
     cJSON *root = cJSON_ParseWithLength(text, len);
     free(text);
+    if (!root) {
+        sq_error_set(err, SQ_ERR_PARSE, path, "malformed JSON (cut short?): not a checkpoint to resume from");
+        return -1;
+    }
     const cJSON *fmt = cJSON_GetObjectItemCaseSensitive(root, "format");
     const cJSON *front = cJSON_GetObjectItemCaseSensitive(root, "front");
     const cJSON *secs = cJSON_GetObjectItemCaseSensitive(root, "seconds");

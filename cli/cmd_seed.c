@@ -425,7 +425,7 @@ int cmd_seed(int argc, char **argv)
         case 'b':
             budget = cli_parse_time(optarg);
             if (budget <= 0)
-                return cli_usage("seed", "--budget takes a time such as 60s, 90 or 2m, got '%s'", optarg);
+                return cli_usage("seed", "--budget takes a time such as 60s, 90 or 2m (a week at most), got '%s'", optarg);
             break;
         case O_EVALS:
             if (cli_parse_int("--evals", optarg, 100, 100000000, &v, &err) != 0)

@@ -426,7 +426,7 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
     case 'b':
         fo->budget = cli_parse_time(arg);
         if (fo->budget <= 0)
-            return cli_usage(cmd, "--budget takes a time such as 60s, 90 or 2m, got '%s'", arg);
+            return cli_usage(cmd, "--budget takes a time such as 60s, 90 or 2m (a week at most), got '%s'", arg);
         job->budget_given = 1;
         return CLI_OK;
     case CLI_FITOPT_EVALS:

@@ -18,20 +18,29 @@ static const char *const line_names[] = {CLI_MANIFEST_LINE, NULL};
 static const char *const expected_names[] = {CLI_MANIFEST_EXPECTED, NULL};
 static const char *const species_names[] = {CLI_MANIFEST_SPECIES, NULL};
 
-/* The column whose trimmed header equals (any case) the first name present, or -1. */
+/* 1 when header field f, trimmed, is name (any case). */
+static int is_column(const char *f, const char *name)
+{
+    while (*f == ' ' || *f == '\t')
+        f++;
+    size_t n = strlen(f);
+    while (n > 0 && (f[n - 1] == ' ' || f[n - 1] == '\t'))
+        n--;
+    return n == strlen(name) && strncasecmp(f, name, n) == 0;
+}
+
+/* The column whose trimmed header equals (any case) the first name present, or -1; -2
+ * when that name heads two columns (which one holds the rows' values?). */
 static int find_column(const SqCsvRecord *h, const char *const *names)
 {
     for (; *names; names++)
-        for (int i = 0; i < h->nfields; i++) {
-            const char *f = h->fields[i];
-            while (*f == ' ' || *f == '\t')
-                f++;
-            size_t n = strlen(f);
-            while (n > 0 && (f[n - 1] == ' ' || f[n - 1] == '\t'))
-                n--;
-            if (n == strlen(*names) && strncasecmp(f, *names, n) == 0)
+        for (int i = 0; i < h->nfields; i++)
+            if (is_column(h->fields[i], *names)) {
+                for (int j = i + 1; j < h->nfields; j++)
+                    if (is_column(h->fields[j], *names))
+                        return -2;
                 return i;
-        }
+            }
     return -1;
 }
 
@@ -133,6 +142,15 @@ static SqStatus from_csv(SqCsv *csv, const char *path, CliManifest *m, SqError *
     int cmask = find_column(h, mask_names), cexp = find_column(h, expected_names);
     int cspecies = find_column(h, species_names), cline = find_column(h, line_names);
     snprintf(where, sizeof where, "%s:%d", path, h->line);
+    const int cols[] = {cid, cphoto, cmask, cexp, cspecies, cline};
+    static const char *const roles[] = {"id", "photo", "mask", "expected", "species", "body_line"};
+    for (int k = 0; k < 6; k++)
+        if (cols[k] == -2) {
+            sq_error_set(err, SQ_ERR_PARSE, where, "the manifest's header names its %s column twice", roles[k]);
+            sq_io_csv_free(csv);
+            free(csv);
+            return SQ_ERR_PARSE;
+        }
     if (cid < 0 || cphoto < 0) {
         sq_error_set(err, SQ_ERR_PARSE, where,
                      "the manifest's header has no %s column (the first line must name the columns: "

@@ -449,12 +449,40 @@ static SqStatus layers_from_array(const Ctx *c, const SqParamSpec *s, const cJSO
     return SQ_OK;
 }
 
+/* The byte offset of s's first byte that is not well-formed UTF-8 (RFC 3629: no overlong
+ * forms, no surrogates, nothing past U+10FFFF), or -1. */
+static long utf8_bad(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    for (long i = 0; p[i];) {
+        const unsigned b = p[i];
+        int len = b < 0x80 ? 1 : (b >> 5) == 6 ? 2 : (b >> 4) == 14 ? 3 : (b >> 3) == 30 ? 4 : 0;
+        if (!len)
+            return i;
+        unsigned cp = len == 1 ? b : b & (0x7Fu >> len);
+        for (int k = 1; k < len; k++) {
+            if ((p[i + k] & 0xC0) != 0x80)
+                return i;
+            cp = cp << 6 | (p[i + k] & 0x3F);
+        }
+        static const unsigned least[5] = {0, 0, 0x80, 0x800, 0x10000};
+        if (cp < least[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
+            return i;
+        i += len;
+    }
+    return -1;
+}
+
 static SqStatus copy_string(const Ctx *c, const cJSON *v, const char *key, char *dst, size_t n)
 {
     char got[80];
     if (!cJSON_IsString(v))
         return fail(c, SQ_ERR_INVALID, key, "\"%s\" must be a string, got %s", key,
                     describe(v, got, sizeof got));
+    const long bad = utf8_bad(v->valuestring);
+    if (bad >= 0)
+        return fail(c, SQ_ERR_INVALID, key, "\"%s\" is not UTF-8 text (a stray byte 0x%02X at its byte %ld)", key,
+                    (unsigned char)v->valuestring[bad], bad);
     if (strlen(v->valuestring) >= n)
         return fail(c, SQ_ERR_LIMIT, key, "\"%s\" is longer than %zu bytes", key, n - 1);
     if (dst)

@@ -258,6 +258,8 @@ if [ "$PART" = shard ]; then
   [ "$(ls "$TMP/s1" | grep -v '\.' | tr '\n' ' ')" = "stripes " ] || fail "shard 1 fitted: $(ls "$TMP/s1")"
   SLURM_ARRAY_TASK_ID=9 SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s9"
   check "Slurm task outside the array" 2 err "SLURM_ARRAY_TASK_ID 9"
+  SLURM_ARRAY_TASK_ID=abc SLURM_ARRAY_TASK_COUNT=2 run batch "$TMP/m.csv" -o "$TMP/s9"
+  check "Slurm task not a number" 2 err "SLURM_ARRAY_TASK_ID abc"
   run batch --merge "$TMP/s0" "$TMP/s1" -o "$TMP/merged"; check "merge two shards" 0 out "3 rows: 2 ok, 1 failed"
   [ "$(catalogue_ids "$TMP/merged" ok)" = "bands stripes" ] || fail "merged: $(catalogue_ids "$TMP/merged")"
   [ "$(catalogue_ids "$TMP/merged" error)" = "gone" ] || fail "merged failures: $(catalogue_ids "$TMP/merged" error)"

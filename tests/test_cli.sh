@@ -239,6 +239,7 @@ run prepare "$TMP/p.jpg" -o "$TMP/prepx" --work-size 4294967808; check "prepare 
 run fit --help;           check "fit --help" 0 out "usage: squama fit" out "report.html"
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png"; check "fit without -o" 2 err "say where the results go"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --budget soon; check "fit bad budget" 2 err "--budget"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --budget 99999999999999999999; check "fit budget past a week" 2 err "(a week at most), got '99999999999999999999'"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --method simplex; check "fit bad method" 2 err "simplex"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --seed ""; check "fit empty --seed" 2 err "--seed must be 0 to 2147483647, got ''"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --categories spots,stripes; check "fit bad kind" 2 err "layered, or all; got 'stripes'"
@@ -382,6 +383,8 @@ run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 
 check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
+mkdir -p "$TMP/cut/checkpoint" && head -c 60 "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/cut/checkpoint/checkpoint.json"
+run fit "$TMP/p.jpg" -o "$TMP/fitr3" --evals 100 --resume "$TMP/cut"; check "fit --resume cut short" 1 err "malformed JSON (cut short?)"
 # a time budget is the whole command's: the search gets it less the photo's preparation and
 # a reserve for the outputs (1 s, and 2 s times the maps' side over 1024 squared), at least a
 # quarter of it, and says so when that leaves it less than half

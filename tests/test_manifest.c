@@ -87,6 +87,8 @@ static void malformed_manifests(void **state)
         {"a1,a.jpg\nb1,b.jpg\n", "no 'id' column", "m.csv:1"},
         {"id,picture\na,a.jpg\n", "no 'photo' (or 'file') column", "m.csv:1"},
         {"id,photo\na,\"a.jpg\nb,b.jpg\n", "unterminated quoted field", "m.csv:2"},
+        {"id,photo,ID\na,a.jpg,b\n", "names its id column twice", "m.csv:1"},
+        {"id,photo, Species ,species\na,a.jpg,x,y\n", "names its species column twice", "m.csv:1"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         CliManifest m;

@@ -193,6 +193,15 @@ static void every_error_named_with_its_place(void **state)
         /* meta keys */
         {"{\"format\": \"squama-preset/1\", \"name\": 3}", "p.json:1",
          "\"name\" must be a string", SQ_ERR_INVALID},
+        /* text that is not UTF-8: Latin-1, an overlong '/', a surrogate, a cut sequence */
+        {"{\"format\": \"squama-preset/1\", \"name\": \"caf\xe9\"}", "p.json:1",
+         "\"name\" is not UTF-8 text (a stray byte 0xE9 at its byte 3)", SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"notes\": \"a\xc0\xaf" "b\"}", "p.json:1",
+         "\"notes\" is not UTF-8 text (a stray byte 0xC0 at its byte 1)", SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"\xed\xa0\x80\"}", "p.json:1",
+         "not UTF-8 text (a stray byte 0xED at its byte 0)", SQ_ERR_INVALID},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"x\xe2\x82\"}", "p.json:1",
+         "not UTF-8 text (a stray byte 0xE2 at its byte 1)", SQ_ERR_INVALID},
         /* cellular automaton as text: the descriptor's own line */
         {"{\"format\": \"squama-preset/1\",\n\"CA_Descriptor\": \"0 1\\nrectangular\\n0\\n6\\n11 x\"}",
          "p.json:2, CA_Descriptor text line:5", "rectangular rules have 4 bits", SQ_ERR_INVALID},
