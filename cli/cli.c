@@ -38,10 +38,19 @@ int cli_usage(const char *cmd, const char *fmt, ...)
 
 int cli_bad_option(const char *cmd, char *const argv[], int c)
 {
-    const char *opt = optind > 0 ? argv[optind - 1] : "?";
+    const char *word = optind > 0 ? argv[optind - 1] : "?";
+    if (strncmp(word, "--", 2) != 0) { /* a short option, perhaps in a cluster: the letter */
+        if (c == ':')
+            return cli_usage(cmd, "-%c needs a value", optopt);
+        return cli_usage(cmd, "unknown option '-%c'", optopt ? optopt : '?');
+    }
+    const char *eq = strchr(word, '='); /* as typed, up to its '=' */
+    const int len = eq ? (int)(eq - word) : (int)strlen(word);
     if (c == ':')
-        return cli_usage(cmd, "%s needs a value", opt);
-    return cli_usage(cmd, "unknown option '%s'", opt);
+        return cli_usage(cmd, "%.*s needs a value", len, word);
+    if (eq && optopt) /* a known option given a value it does not take */
+        return cli_usage(cmd, "%.*s takes no value", len, word);
+    return cli_usage(cmd, "unknown option '%.*s'", len, word);
 }
 
 /* path with its folder resolved (realpath), in out (n bytes); 0, or -1 when the folder
@@ -49,12 +58,14 @@ int cli_bad_option(const char *cmd, char *const argv[], int c)
 static int resolved(const char *path, char *out, size_t n)
 {
     char dir[4096], real[PATH_MAX];
-    snprintf(dir, sizeof dir, "%s", path);
-    char *slash = strrchr(dir, '/');
-    const char *base = slash ? slash + 1 : path;
-    if (slash)
-        *(slash == dir ? slash + 1 : slash) = '\0';
-    if (!realpath(slash ? dir : ".", real))
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    if (!realpath(dir, real))
         return -1;
     return snprintf(out, n, "%s/%s", real, base) < (int)n ? 0 : -1;
 }

@@ -31,11 +31,15 @@ void cli_fatal_signal(int sig);
 
 /* mkdir -p; 0 or -1 with errno. */
 int cli_mkdirs(const char *path);
-/* The same, the first folder it made (the outermost new one) in made ("" if none); and
- * after a run that failed, those folders removed again, from path up to made, each only
- * if empty: a refused command leaves no empty folder behind, and never anything else. */
-int cli_mkdirs_new(const char *path, char *made, size_t n);
-void cli_rmdirs_new(const char *path, const char *made);
+/* The same, recording the folders it made (as lengths of path's prefixes); and after a
+ * run that failed, exactly those removed again, the last made first, each only if empty:
+ * a refused command leaves no empty folder behind, and never anything else. */
+enum { CLI_MADE_MAX = 64 };
+typedef struct CliMade {
+    int n, len[CLI_MADE_MAX];
+} CliMade;
+int cli_mkdirs_new(const char *path, CliMade *made);
+void cli_rmdirs_new(const char *path, const CliMade *made);
 
 /* 1 when a and b name the same file: the same inode if both exist, else the same path
  * once their folders are resolved. */

@@ -112,8 +112,10 @@ static int slurm_shard(int *i, int *n)
     if (!id || !*id)
         return 0;
     char none[] = "", *e1, *e2 = none, *e3 = none;
+    errno = 0;
     long t = strtol(id, &e1, 10), c = count ? strtol(count, &e2, 10) : 0, m = min ? strtol(min, &e3, 10) : 0;
-    if (*e1 || *e2 || *e3 || c < 1 || t - m < 0 || t - m >= c) { /* not numbers, or no shard */
+    const int numbers = !*e1 && !*e2 && !*e3 && errno != ERANGE && labs(t) < 1L << 30 && labs(m) < 1L << 30;
+    if (!numbers || c < 1 || t - m < 0 || t - m >= c) { /* not (small) numbers, or no shard */
         fprintf(stderr,
                 "squama: SLURM_ARRAY_TASK_ID %s with SLURM_ARRAY_TASK_MIN %s and SLURM_ARRAY_TASK_COUNT %s is no "
                 "shard I/N (give --shard I/N; arrays must be contiguous, e.g. --array=0-7)\n",
@@ -291,15 +293,15 @@ static int merge_bad_rows(const SqCsv *cats, int ncats, CliManifestRow *rows, Ba
 static int merge(char **dirs, int ndirs, Batch *b)
 {
     SqError err;
-    char made[4096];
-    if (cli_mkdirs_new(b->outdir, made, sizeof made) != 0) {
+    CliMade made;
+    if (cli_mkdirs_new(b->outdir, &made) != 0) {
         sq_error_set(&err, SQ_ERR_IO, b->outdir, "cannot create the output folder: %s", strerror(errno));
         return cli_fail(&err);
     }
     char outreal[PATH_MAX];
     if (!realpath(b->outdir, outreal)) {
         sq_error_set(&err, SQ_ERR_IO, b->outdir, "cannot resolve: %s", strerror(errno));
-        cli_rmdirs_new(b->outdir, made);
+        cli_rmdirs_new(b->outdir, &made);
         return cli_fail(&err);
     }
     BatchDone *done = NULL;
@@ -433,7 +435,7 @@ static int merge(char **dirs, int ndirs, Batch *b)
         sq_io_csv_free(&cats[k]);
     free(cats);
     if (rc != CLI_OK) /* the folder it made, while nothing was linked into it */
-        cli_rmdirs_new(b->outdir, made);
+        cli_rmdirs_new(b->outdir, &made);
     return rc;
 }
 

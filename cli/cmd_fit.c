@@ -220,7 +220,9 @@ int cmd_fit(int argc, char **argv)
     job.stop = &stop_flag;
     struct sigaction sa = {0}, old;
     sa.sa_handler = on_sigint;
-    sigaction(SIGINT, &sa, &old);
+    sigaction(SIGINT, NULL, &old);
+    if (old.sa_handler != SIG_IGN) /* a fit started in the background ignores Ctrl-C, as it was told */
+        sigaction(SIGINT, &sa, NULL);
     CliFitOutcome r;
     SqStatus st = cli_fit_job_run(&job, &r, &err);
     sigaction(SIGINT, &old, NULL);

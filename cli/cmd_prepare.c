@@ -48,21 +48,24 @@ static const char help[] =
     "      --debug          save each step\n"
     "  -h, --help           show this help\n";
 
-/* Makes dir and its parents (like mkdir -p); the first folder it made, if any, in made. */
-int cli_mkdirs_new(const char *path, char *made, size_t n)
+/* Makes dir and its parents (like mkdir -p); each folder it made, if any, in made. */
+int cli_mkdirs_new(const char *path, CliMade *made)
 {
     char buf[4096];
-    snprintf(buf, sizeof buf, "%s", path);
-    if (made && n)
-        made[0] = '\0';
+    if (made)
+        made->n = 0;
+    if (!path[0] || snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
+        errno = path[0] ? ENAMETOOLONG : ENOENT;
+        return -1;
+    }
     for (char *c = buf + 1;; c++) {
         if (*c != '/' && *c != '\0')
             continue;
         const char end = *c;
         *c = '\0';
         if (mkdir(buf, 0777) == 0) {
-            if (made && n && !made[0])
-                snprintf(made, n, "%s", buf);
+            if (made && made->n < CLI_MADE_MAX)
+                made->len[made->n++] = (int)(c - buf);
         } else if (errno != EEXIST)
             return -1;
         if (!end)
@@ -75,23 +78,15 @@ int cli_mkdirs_new(const char *path, char *made, size_t n)
 
 int cli_mkdirs(const char *path)
 {
-    return cli_mkdirs_new(path, NULL, 0);
+    return cli_mkdirs_new(path, NULL);
 }
 
-void cli_rmdirs_new(const char *path, const char *made)
+void cli_rmdirs_new(const char *path, const CliMade *made)
 {
-    if (!made || !made[0] || strncmp(path, made, strlen(made)) != 0)
-        return;
     char buf[4096];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (;;) { /* from the leaf up to made, each only while empty */
-        if (rmdir(buf) != 0 || strlen(buf) <= strlen(made))
+    for (int i = made ? made->n - 1 : -1; i >= 0; i--) /* the last made first; each only if empty */
+        if (snprintf(buf, sizeof buf, "%.*s", made->len[i], path) < (int)sizeof buf && rmdir(buf) != 0)
             return;
-        char *slash = strrchr(buf, '/');
-        if (!slash)
-            return;
-        *slash = '\0';
-    }
 }
 
 SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
@@ -107,7 +102,8 @@ SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliP
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for the mask");
     for (int y = 0; y < in->photo.height; y++)
         for (int x = 0; x < in->photo.width; x++) {
-            int mx = (int)((x + 0.5) * prep->scale), my = (int)((y + 0.5) * prep->scale);
+            int mx = (int)((x + 0.5) * prep->mask.width / in->photo.width),
+                my = (int)((y + 0.5) * prep->mask.height / in->photo.height);
             mx = mx >= prep->mask.width ? prep->mask.width - 1 : mx;
             my = my >= prep->mask.height ? prep->mask.height - 1 : my;
             *sq_image_at(&full, x, y) = *sq_image_at(&prep->mask, mx, my);
@@ -236,8 +232,8 @@ int cmd_prepare(int argc, char **argv)
         return cli_usage("prepare", "say where to write with -o DIR");
     char dbg[4096];
     snprintf(dbg, sizeof dbg, "%s/debug", outdir);
-    char made[4096];
-    if (cli_mkdirs_new(debug ? dbg : outdir, made, sizeof made) != 0) {
+    CliMade made;
+    if (cli_mkdirs_new(debug ? dbg : outdir, &made) != 0) {
         sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the folder: %s", strerror(errno));
         return cli_fail(&err);
     }
@@ -245,7 +241,7 @@ int cmd_prepare(int argc, char **argv)
         po.debug_dir = dbg;
     CliPhoto in;
     if (cli_load_photo(argv[optind], mask_path, line_path, &in, &err) != 0) {
-        cli_rmdirs_new(debug ? dbg : outdir, made);
+        cli_rmdirs_new(debug ? dbg : outdir, &made);
         return cli_fail(&err);
     }
     SqPrepared prep;
@@ -292,6 +288,6 @@ int cmd_prepare(int argc, char **argv)
     }
     cli_photo_free(&in);
     if (rc != CLI_OK)
-        cli_rmdirs_new(debug ? dbg : outdir, made);
+        cli_rmdirs_new(debug ? dbg : outdir, &made);
     return rc;
 }

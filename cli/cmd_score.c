@@ -82,8 +82,8 @@ int cmd_score(int argc, char **argv)
     const char *photo_path = argv[optind];
     const int n = argc - optind - 1;
     char **presets = argv + optind + 1;
-    char made[4096] = "";
-    if (po.debug_dir && cli_mkdirs_new(po.debug_dir, made, sizeof made) != 0) {
+    CliMade made = {0};
+    if (po.debug_dir && cli_mkdirs_new(po.debug_dir, &made) != 0) {
         sq_error_set(&err, SQ_ERR_IO, po.debug_dir, "cannot create the folder: %s", strerror(errno));
         return cli_fail(&err);
     }
@@ -98,7 +98,7 @@ int cmd_score(int argc, char **argv)
         free(rank);
         sq_error_set(&err, SQ_ERR_NOMEM, "", "out of memory");
         if (po.debug_dir)
-            cli_rmdirs_new(po.debug_dir, made);
+            cli_rmdirs_new(po.debug_dir, &made);
         return cli_fail(&err);
     }
     int rc = CLI_OK;
@@ -177,6 +177,6 @@ int cmd_score(int argc, char **argv)
     free(scale);
     free(rank);
     if (rc != CLI_OK && po.debug_dir) /* the folder it made, when nothing was written into it */
-        cli_rmdirs_new(po.debug_dir, made);
+        cli_rmdirs_new(po.debug_dir, &made);
     return rc;
 }

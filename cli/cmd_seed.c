@@ -129,7 +129,8 @@ static int usable_dir(const char *path, SqError *err)
 }
 
 /* The temporary folder beside DIR that everything is written into first, and the names
- * written there, to clean up after a failure. */
+ * written there, to clean up after a failure; each also registered with the io module's
+ * temporary files, which an interrupted run removes (cli_fatal_signal). */
 typedef struct Staging {
     char dir[4096];
     int nfiles;
@@ -142,17 +143,27 @@ static void staging_clean(Staging *s)
     for (int i = 0; i < s->nfiles; i++) {
         snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
         unlink(path);
+        sq_io_temp_forget(path);
     }
-    if (s->dir[0])
+    if (s->dir[0]) {
         rmdir(s->dir);
+        sq_io_temp_forget(s->dir);
+    }
     free(s->files);
+}
+
+/* s's next file, its path in path (n bytes), registered as temporary */
+static void stage_name(Staging *s, const char *name, char *path, size_t n)
+{
+    snprintf(path, n, "%s/%s", s->dir, name);
+    snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
+    sq_io_temp_add(path);
 }
 
 static SqStatus stage_file(Staging *s, const char *name, const void *data, size_t len, SqError *err)
 {
     char path[4200];
-    snprintf(path, sizeof path, "%s/%s", s->dir, name);
-    snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
+    stage_name(s, name, path, sizeof path);
     return sq_io_write_file(path, data, len, err);
 }
 
@@ -300,6 +311,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
         staging_clean(&stg);
         return st;
     }
+    sq_io_temp_add(stg.dir);
     SqStatus st = SQ_OK;
     SqPresetInfo *info = malloc(sizeof *info);
     char(*labels)[64] = malloc(sizeof *labels * (size_t)r->n);
@@ -338,8 +350,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     }
     if (st == SQ_OK) {
         char path[4200];
-        snprintf(path, sizeof path, "%s/sheet.png", stg.dir);
-        snprintf(stg.files[stg.nfiles++], sizeof stg.files[0], "sheet.png");
+        stage_name(&stg, "sheet.png", path, sizeof path);
         SqGenOptions go = sq_gen_options_default(size);
         go.threads = threads;
         st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
@@ -348,8 +359,15 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
         /* DIR was checked new or empty; a rename over an empty folder replaces it */
         if (rename(stg.dir, outdir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
-        else
+        else { /* in place: nothing of it is temporary now */
+            char path[4200];
+            for (int i = 0; i < stg.nfiles; i++) {
+                snprintf(path, sizeof path, "%s/%s", stg.dir, stg.files[i]);
+                sq_io_temp_forget(path);
+            }
+            sq_io_temp_forget(stg.dir);
             stg.nfiles = 0, stg.dir[0] = 0;
+        }
     }
     if (st == SQ_OK && json)
         fputs(text, stdout);

@@ -491,11 +491,27 @@ void cli_fit_job_options_done(CliFitJob *job)
 SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
 {
     memset(out, 0, sizeof *out);
-    char made[4096];
-    if (cli_mkdirs_new(job->outdir, made, sizeof made) != 0)
+    CliMade made;
+    if (cli_mkdirs_new(job->outdir, &made) != 0)
         return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot create the output folder: %s", strerror(errno));
     if (access(job->outdir, W_OK) != 0) /* found now, not after the search */
         return sq_error_set(err, SQ_ERR_IO, job->outdir, "cannot write into the output folder: %s", strerror(errno));
+    /* an input that an output would replace (photo.jpg, mask.png and line.json are left as
+     * they are when they are the inputs) */
+    static const char *const outputs[] = {"best.json", "fit.json", "report.html", "basecolor.png", "height.png",
+                                          "roughness.png", "normal.png", "preview.png", "strip.png",
+                                          "fitted_strip.png", "kinds.png", "line.png"};
+    const char *const inputs[] = {job->photo, job->mask, job->line};
+    for (size_t i = 0; i < sizeof inputs / sizeof inputs[0]; i++)
+        for (size_t k = 0; inputs[i] && k < sizeof outputs / sizeof outputs[0]; k++) {
+            char path[4200];
+            snprintf(path, sizeof path, "%s/%s", job->outdir, outputs[k]);
+            if (cli_same_file(inputs[i], path)) {
+                cli_rmdirs_new(job->outdir, &made);
+                return sq_error_set(err, SQ_ERR_INVALID, inputs[i], "the fit writes %s over it: give another -o",
+                                    outputs[k]);
+            }
+        }
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
     Clock clock = {.t0 = cli_now_s(), .budget = job->fo.budget};
@@ -559,6 +575,6 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
     sq_fit_prepared_free(&prep);
     cli_photo_free(&in);
     if (st != SQ_OK) /* a refused photo leaves no empty folder */
-        cli_rmdirs_new(job->outdir, made);
+        cli_rmdirs_new(job->outdir, &made);
     return st;
 }

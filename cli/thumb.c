@@ -75,10 +75,11 @@ SqStatus cli_thumbnail(const char *src, const char *mask, const char *dst, SqErr
         sq_image_free(&img);
         return st;
     }
-    /* a fit's mask.png is the photo's own size, its photo.jpg the prepared one's: the
-     * same picture, the mask taken to the photo's pixels */
-    if (mask && (m.width != img.width || m.height != img.height) &&
-        fabs((double)m.width * img.height / ((double)m.height * img.width) - 1) < 0.01) {
+    /* a fit's mask.png is the photo's own size, its photo.jpg the prepared one's (each side
+     * rounded to whole pixels): the same picture, the mask taken to the photo's pixels */
+    const double cross = (double)m.width * img.height - (double)m.height * img.width,
+                 rounding = 0.5 * (fmax(m.width, img.width) + fmax(m.height, img.height)) + 1;
+    if (mask && (m.width != img.width || m.height != img.height) && fabs(cross) <= rounding) {
         SqImage r;
         if (sq_image_alloc(&r, img.width, img.height, 1, SQ_SPACE_DATA) != 0) {
             sq_image_free(&img);

@@ -14,16 +14,18 @@
 #include "io_internal.h"
 #include "squama/io.h"
 
-/* The temporary files being written, for sq_io_remove_temps in a signal handler: a slot
- * is 0 free, 1 being filled, 2 holding a name. Lock-free, so a handler that interrupts a
- * write never waits; a name too long for a slot, or a table full, goes unregistered. */
-enum { TEMP_SLOTS = 64, TEMP_NAME = 1024 };
+/* The temporary files being written (and what sq_io_temp_add registers), for
+ * sq_io_remove_temps in a signal handler: a slot is 0 free, 1 being filled, 2 holding a
+ * name. Lock-free, so a handler that interrupts a write never waits; a name too long for
+ * a slot, or a table full, goes unregistered. Room for a staging folder of
+ * squama seed's 256 presets beside the writes under way. */
+enum { TEMP_SLOTS = 512, TEMP_NAME = 1024 };
 static struct {
     atomic_int state;
     char name[TEMP_NAME];
 } temps[TEMP_SLOTS];
 
-static void temp_register(const char *tmp)
+void sq_io_temp_add(const char *tmp)
 {
     if (strlen(tmp) >= TEMP_NAME)
         return;
@@ -37,7 +39,7 @@ static void temp_register(const char *tmp)
     }
 }
 
-static void temp_forget(const char *tmp)
+void sq_io_temp_forget(const char *tmp)
 {
     for (int i = 0; i < TEMP_SLOTS; i++)
         if (atomic_load(&temps[i].state) == 2 && strcmp(temps[i].name, tmp) == 0) {
@@ -48,15 +50,18 @@ static void temp_forget(const char *tmp)
 
 void sq_io_remove_temps(void)
 {
-    for (int i = 0; i < TEMP_SLOTS; i++)
+    for (int i = 0; i < TEMP_SLOTS; i++) /* the files, then the folders they were in */
         if (atomic_load(&temps[i].state) == 2)
             unlink(temps[i].name);
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (atomic_load(&temps[i].state) == 2)
+            rmdir(temps[i].name);
 }
 
 void sq__io_drop_temp(const char *tmp)
 {
     unlink(tmp);
-    temp_forget(tmp);
+    sq_io_temp_forget(tmp);
 }
 
 int sq__io_make_temp(const char *path, char *tmp, size_t size)
@@ -72,7 +77,7 @@ int sq__io_make_temp(const char *path, char *tmp, size_t size)
         int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0) {
             close(fd);
-            temp_register(tmp);
+            sq_io_temp_add(tmp);
             return 0;
         }
         if (errno != EEXIST)
@@ -93,7 +98,7 @@ SqStatus sq__io_commit(const char *tmp, const char *path, SqError *err)
         sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
     }
-    temp_forget(tmp);
+    sq_io_temp_forget(tmp);
     return SQ_OK;
 }
 

@@ -88,6 +88,8 @@ run presets format x -o;  check "format -o without file" 2 err "-o needs a value
 run fit x.jpg -o "$TMP/never" --evals; check "fit --evals without a value" 2 err "squama: --evals needs a value (see 'squama fit --help')"
 run render x.json -o "$TMP/never" --size; check "render --size without a value" 2 err "--size needs a value"
 run fit x.jpg -o "$TMP/never" -b; check "fit -b without a value" 2 err "-b needs a value"
+run fit -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster" 2 err "unknown option '-x'"
+run fit x.jpg -o "$TMP/never" --json=1; check "a value for a flag" 2 err "--json takes no value"
 run presets frob;         check "presets unknown subcommand" 2 err "unknown subcommand 'frob'"
 SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
 check "SQUAMA_PRESETS" 0 out "daboia_russelii.ca"
@@ -360,6 +362,10 @@ check "fit DIR/photo.jpg -o DIR" 0
 cmp -s "$TMP/p.jpg" "$TMP/ow/photo.jpg" || { echo "FAIL: fit wrote over the photo it fitted"; fails=$((fails + 1)); }
 run prepare "$TMP/p.jpg" --mask "$TMP/ow/mask.png" -o "$TMP/owp"
 check "a fit's mask.png given back" 0 out "given mask"
+cp "$TMP/p.jpg" "$TMP/ow/preview.png"
+run fit "$TMP/ow/preview.png" -o "$TMP/ow" --evals 100 --size 64 -j 2 -q --categories none
+check "fit of a photo it would write over" 1 err "the fit writes preview.png over it: give another -o"
+cmp -s "$TMP/p.jpg" "$TMP/ow/preview.png" || { echo "FAIL: fit wrote over the photo it was given"; fails=$((fails + 1)); }
 # refused runs leave no folder they made (and keep one that was there)
 run fit "$TMP/none.jpg" -o "$TMP/gone/fit" --evals 100; check "fit refused" 1 err "cannot open image"
 run prepare "$TMP/none.jpg" -o "$TMP/gone/prep"; check "prepare refused" 1 err "cannot open image"

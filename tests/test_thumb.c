@@ -63,6 +63,17 @@ static void the_photo_thumbnail_veils_what_the_mask_leaves_out(void **state)
     assert_int_equal(t.width, 40);
     assert_int_equal(t.height, 30);
     sq_image_free(&t);
+    /* a fit's full-size mask over its prepared photo, whose sides were rounded (3000x450
+     * prepared at 256 px wide: 256x38, 1% off in aspect): taken to the photo's pixels */
+    char wide[4096], widemask[4096];
+    write_halves(tmp_path(wide, sizeof wide, "thumb_wide_in.png"), 256, 38, 128, red, blue);
+    write_halves(tmp_path(widemask, sizeof widemask, "thumb_wide_mask.png"), 3000, 450, 1500, white, black);
+    assert_int_equal(cli_thumbnail(wide, widemask, thumb, &err), SQ_OK);
+    read_back(thumb, &t);
+    assert_near(sq_image_at(&t, 5, t.height / 2), 1, 0, 0);
+    assert_near(sq_image_at(&t, t.width - 5, t.height / 2), (1 - keep) * veil[0], (1 - keep) * veil[1],
+                keep + (1 - keep) * veil[2]);
+    sq_image_free(&t);
     /* a mask of another size, a missing photo: errors naming the file, nothing written */
     assert_int_equal(cli_thumbnail(photo, small, tmp_path(thumb, sizeof thumb, "thumb_bad.png"), &err),
                      SQ_ERR_INVALID);

@@ -63,6 +63,12 @@ SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *te
  * of SIGINT or SIGTERM, so that an interrupted program leaves no half-written file. */
 void sq_io_remove_temps(void);
 
+/* Files or folders that are temporary too (a staging folder and what it holds, until it is
+ * renamed into place): removed by sq_io_remove_temps (files first, folders when empty)
+ * until forgotten. Thread-safe. */
+void sq_io_temp_add(const char *path);
+void sq_io_temp_forget(const char *path);
+
 /* Writes len bytes atomically (temporary file, fsync, rename). */
 SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqError *err);
 
