@@ -15,6 +15,7 @@
 
 #include "cli.h"
 #include "json_util.h"
+#include "thumb.h"
 #include "squama/fitness.h"
 #include "squama/io.h"
 
@@ -98,16 +99,8 @@ SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliP
     if (mask_path && cli_same_file(mask_path, path))
         return SQ_OK; /* the mask given is this one: kept as it is */
     SqImage full;
-    if (sq_image_alloc(&full, in->photo.width, in->photo.height, 1, SQ_SPACE_DATA) != 0)
+    if (cli_thumb_nearest(&prep->mask, in->photo.width, in->photo.height, &full) != 0)
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for the mask");
-    for (int y = 0; y < in->photo.height; y++)
-        for (int x = 0; x < in->photo.width; x++) {
-            int mx = (int)((x + 0.5) * prep->mask.width / in->photo.width),
-                my = (int)((y + 0.5) * prep->mask.height / in->photo.height);
-            mx = mx >= prep->mask.width ? prep->mask.width - 1 : mx;
-            my = my >= prep->mask.height ? prep->mask.height - 1 : my;
-            *sq_image_at(&full, x, y) = *sq_image_at(&prep->mask, mx, my);
-        }
     SqStatus st = sq_io_write_image(path, &full, NULL, err);
     sq_image_free(&full);
     return st;

@@ -137,18 +137,28 @@ typedef struct Staging {
     char (*files)[32];
 } Staging;
 
-static void staging_clean(Staging *s)
+/* s's files and folder no longer temporary; removed first when remove is set */
+static void staging_release(Staging *s, int remove)
 {
     char path[4200];
     for (int i = 0; i < s->nfiles; i++) {
         snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
-        unlink(path);
+        if (remove)
+            unlink(path);
         sq_io_temp_forget(path);
     }
     if (s->dir[0]) {
-        rmdir(s->dir);
+        if (remove)
+            rmdir(s->dir);
         sq_io_temp_forget(s->dir);
     }
+    s->nfiles = 0;
+    s->dir[0] = 0;
+}
+
+static void staging_clean(Staging *s)
+{
+    staging_release(s, 1);
     free(s->files);
 }
 
@@ -359,15 +369,8 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
         /* DIR was checked new or empty; a rename over an empty folder replaces it */
         if (rename(stg.dir, outdir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
-        else { /* in place: nothing of it is temporary now */
-            char path[4200];
-            for (int i = 0; i < stg.nfiles; i++) {
-                snprintf(path, sizeof path, "%s/%s", stg.dir, stg.files[i]);
-                sq_io_temp_forget(path);
-            }
-            sq_io_temp_forget(stg.dir);
-            stg.nfiles = 0, stg.dir[0] = 0;
-        }
+        else /* in place: nothing of it is temporary now */
+            staging_release(&stg, 0);
     }
     if (st == SQ_OK && json)
         fputs(text, stdout);

@@ -58,6 +58,17 @@ void cli_thumb_paste(SqImage *dst, const SqImage *src, int x0, int y0)
             memcpy(sq_image_at(dst, x0 + x, y0 + y), sq_image_at(src, x, y), 3 * sizeof(float));
 }
 
+int cli_thumb_nearest(const SqImage *img, int w, int h, SqImage *out)
+{
+    if (sq_image_alloc(out, w, h, 1, SQ_SPACE_DATA) != 0)
+        return -1;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            *sq_image_at(out, x, y) =
+                *sq_image_at(img, (int)((x + 0.5) * img->width / w), (int)((y + 0.5) * img->height / h));
+    return 0;
+}
+
 static SqStatus write_free(const char *dst, SqImage *t, SqError *err)
 {
     SqStatus st = sq_io_write_image(dst, t, NULL, err);
@@ -81,15 +92,11 @@ SqStatus cli_thumbnail(const char *src, const char *mask, const char *dst, SqErr
                  rounding = 0.5 * (fmax(m.width, img.width) + fmax(m.height, img.height)) + 1;
     if (mask && (m.width != img.width || m.height != img.height) && fabs(cross) <= rounding) {
         SqImage r;
-        if (sq_image_alloc(&r, img.width, img.height, 1, SQ_SPACE_DATA) != 0) {
+        if (cli_thumb_nearest(&m, img.width, img.height, &r) != 0) {
             sq_image_free(&img);
             sq_image_free(&m);
             return sq_error_set(err, SQ_ERR_NOMEM, dst, "out of memory");
         }
-        for (int y = 0; y < img.height; y++)
-            for (int x = 0; x < img.width; x++)
-                *sq_image_at(&r, x, y) = *sq_image_at(&m, (int)((x + 0.5) * m.width / img.width),
-                                                      (int)((y + 0.5) * m.height / img.height));
         sq_image_free(&m);
         m = r;
     }

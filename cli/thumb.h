@@ -26,6 +26,9 @@ SqStatus cli_thumbnail_strips(const char *strip, const char *fitted, const char 
 int cli_thumb_shrink(const SqImage *img, const SqImage *mask, int side, SqImage *out);
 /* a strip (the body running down it) turned to run across, at most side pixels wide */
 int cli_thumb_turned(const SqImage *strip, int side, SqImage *out);
+/* img's first channel taken to w x h by its nearest pixel (a mask to another size of its
+ * picture) */
+int cli_thumb_nearest(const SqImage *img, int w, int h, SqImage *out);
 /* src's RGB copied into dst at (x0, y0), cut at dst's edges */
 void cli_thumb_paste(SqImage *dst, const SqImage *src, int x0, int y0);
 
