@@ -15,6 +15,7 @@
 
 #include "cli.h"
 #include "fit_job.h"
+#include "json_util.h"
 #include "squama/io.h"
 #include "squama/preset.h"
 
@@ -92,16 +93,15 @@ static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, doub
     size_t len;
     if (sq_io_read_file(path, 1 << 20, &text, &len, err) != SQ_OK)
         return -1;
-    cJSON *root = cJSON_ParseWithLength(text, len);
+    cJSON *root;
+    SqStatus st = sq__json_parse(text, len, path, &root, err);
     free(text);
-    if (!root) {
-        sq_error_set(err, SQ_ERR_PARSE, path, "malformed JSON (cut short?): not a checkpoint to resume from");
+    if (st != SQ_OK)
         return -1;
-    }
     const cJSON *fmt = cJSON_GetObjectItemCaseSensitive(root, "format");
     const cJSON *front = cJSON_GetObjectItemCaseSensitive(root, "front");
     const cJSON *secs = cJSON_GetObjectItemCaseSensitive(root, "seconds");
-    if (!root || !cJSON_IsString(fmt) || strcmp(fmt->valuestring, "squama-checkpoint/1") != 0 ||
+    if (!cJSON_IsString(fmt) || strcmp(fmt->valuestring, "squama-checkpoint/1") != 0 ||
         !cJSON_IsArray(front) || !cJSON_IsNumber(secs)) {
         cJSON_Delete(root);
         sq_error_set(err, SQ_ERR_PARSE, path, "not a squama checkpoint (format squama-checkpoint/1 with a front)");

@@ -10,6 +10,8 @@
 #include "squama/fitness.h"
 #include "squama/io.h"
 
+#include "json_util.h"
+
 void sq_body_line_free(SqBodyLine *line)
 {
     if (!line)
@@ -100,19 +102,11 @@ SqStatus sq_body_line_parse(const char *text, size_t len, const char *name, SqBo
     name = name ? name : "body line";
     if (len > SQ_BODY_LINE_MAX_BYTES)
         return sq_error_set(err, SQ_ERR_LIMIT, name, "larger than %d bytes: not a body line", SQ_BODY_LINE_MAX_BYTES);
-    if (memchr(text, '\0', len))
-        return sq_error_set(err, SQ_ERR_PARSE, name, "contains a NUL byte: not a JSON text file");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-    if (!root) {
-        int line = 1;
-        for (const char *c = text; end && c < end && c < text + len; c++)
-            line += *c == '\n';
-        char where[SQ_ERROR_WHERE_MAX];
-        snprintf(where, sizeof where, "%s:%d", name, line);
-        return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON");
-    }
-    SqStatus st = parse_root(root, name, out, err);
+    cJSON *root;
+    SqStatus st = sq__json_parse(text, len, name, &root, err);
+    if (st != SQ_OK)
+        return st;
+    st = parse_root(root, name, out, err);
     cJSON_Delete(root);
     if (st != SQ_OK)
         sq_body_line_free(out);

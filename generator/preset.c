@@ -490,21 +490,6 @@ static SqStatus copy_string(const Ctx *c, const cJSON *v, const char *key, char 
     return SQ_OK;
 }
 
-/* Line and column of a byte offset, for parse errors. */
-static void line_col(const char *text, size_t off, int *line, int *col)
-{
-    *line = 1;
-    *col = 1;
-    for (size_t i = 0; i < off; i++) {
-        if (text[i] == '\n') {
-            ++*line;
-            *col = 1;
-        } else {
-            ++*col;
-        }
-    }
-}
-
 static SqStatus parse_root(const Ctx *c, const cJSON *root, SqParams *out, SqPresetInfo *info)
 {
     SqPresetInfo scratch;
@@ -574,37 +559,11 @@ SqStatus sq_preset_parse(const char *text, size_t len, const char *name, SqParam
     Ctx c = {text, len, name ? name : "preset", err, 0, len, ""};
     if (len > SQ_PRESET_MAX_BYTES)
         return fail(&c, SQ_ERR_LIMIT, NULL, "preset larger than %d bytes", SQ_PRESET_MAX_BYTES);
-    if (memchr(text, '\0', len))
-        return fail(&c, SQ_ERR_PARSE, NULL, "contains a NUL byte: not a JSON text file");
-
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-    if (!root || !end) {
-        size_t off = end && end >= text && end <= text + len ? (size_t)(end - text) : 0;
-        int line, col;
-        char where[SQ_ERROR_WHERE_MAX];
-        line_col(text, off, &line, &col);
-        snprintf(where, sizeof where, "%s:%d:%d", c.name, line, col);
-        cJSON_Delete(root);
-        if (len == 0)
-            return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON: the file is empty");
-        if (off + 1 >= len) /* cJSON points at the last byte when the text ends early */
-            return sq_error_set(err, SQ_ERR_PARSE, where,
-                                "malformed JSON at the end of the text (unfinished?)");
-        int show = len - off < 20 ? (int)(len - off) : 20; /* text need not end in NUL */
-        return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON near \"%.*s\"", show,
-                            text + off);
-    }
-    for (const char *p = end; p < text + len; p++)
-        if (*p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') {
-            int line, col;
-            char where[SQ_ERROR_WHERE_MAX];
-            line_col(text, (size_t)(p - text), &line, &col);
-            snprintf(where, sizeof where, "%s:%d:%d", c.name, line, col);
-            cJSON_Delete(root);
-            return sq_error_set(err, SQ_ERR_PARSE, where, "unexpected text after the preset");
-        }
-    SqStatus st = parse_root(&c, root, out, info);
+    cJSON *root;
+    SqStatus st = sq__json_parse(text, len, c.name, &root, err);
+    if (st != SQ_OK)
+        return st;
+    st = parse_root(&c, root, out, info);
     cJSON_Delete(root);
     return st;
 }

@@ -390,7 +390,7 @@ check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
 mkdir -p "$TMP/cut/checkpoint" && head -c 60 "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/cut/checkpoint/checkpoint.json"
-run fit "$TMP/p.jpg" -o "$TMP/fitr3" --evals 100 --resume "$TMP/cut"; check "fit --resume cut short" 1 err "malformed JSON (cut short?)"
+run fit "$TMP/p.jpg" -o "$TMP/fitr3" --evals 100 --resume "$TMP/cut"; check "fit --resume cut short" 1 err "malformed JSON at the end of the text (unfinished?)" err "$TMP/cut/checkpoint/checkpoint.json:"
 # a time budget is the whole command's: the search gets it less the photo's preparation and
 # a reserve for the outputs (1 s, and 2 s times the maps' side over 1024 squared), at least a
 # quarter of it, and says so when that leaves it less than half

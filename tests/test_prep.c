@@ -484,8 +484,12 @@ static void body_line_files(void **state)
          "l.json: colour", "unknown key"},
         {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"width\": 9, \"stretches\": [[[0, 0], [1, 1]]]}",
          "l.json: width", "twice"},
-        {"{\"format\": \"squama-body-line/1\",\n \"width\": 9,\n \"stretches\": [[[0, 0], [1, 1]]}", "l.json:3",
-         "malformed JSON"},
+        {"{\"format\": \"squama-body-line/1\",\n \"width\": 9,\n \"stretches\": [[[0, 0], [1, 1]]}", "l.json:3:32",
+         "malformed JSON: expected a ',' or a ']'"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 9, \"stretches\": [[[0, 0], [1, 1]]]} [2]",
+         "l.json:1:79", "unexpected text after the JSON value"},
+        {"{\"format\": \"squama-body-line/1\", \"width\": 09, \"stretches\": [[[0, 0], [1, 1]]]}",
+         "l.json:1:43", "a number with a leading zero"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         line.nstretches = 7;

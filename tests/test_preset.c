@@ -188,6 +188,41 @@ static void every_error_named_with_its_place(void **state)
          "malformed JSON", SQ_ERR_PARSE},
         {"{\"format\": \"squama-preset/1\"", "p.json:1:28", "at the end of the text", SQ_ERR_PARSE},
         {"", "p.json:1:1", "the file is empty", SQ_ERR_PARSE},
+        /* the byte in error named, not the one after it nor the text's last */
+        {"{\"format\": \"squama-preset/1\",, \"Seed\": 1}", "p.json:1:30",
+         "malformed JSON: expected a key in double quotes, at \", \"Seed\": 1}\"", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\",}", "p.json:1:30", "a ',' before the '}' (a trailing comma)",
+         SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Scales_XAmount\": [4,]}", "p.json:1:52",
+         "a ',' before the ']'", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\" \"Seed\": 1}", "p.json:1:30", "expected a ',' or a '}'",
+         SQ_ERR_PARSE},
+        {"{\"format\" \"squama-preset/1\"}", "p.json:1:11", "expected a ':' after the key", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Seed\": tru}", "p.json:1:39", "expected a value", SQ_ERR_PARSE},
+        /* what cJSON would take: a leading zero, a bare '.', a NUL escape that cuts the string */
+        {"{\"format\": \"squama-preset/1\",\n \"Seed\": 010}", "p.json:2:10", "a number with a leading zero",
+         SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Spots_Scale\": 1.}", "p.json:1:48",
+         "a number needs digits after its '.'", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Spots_Scale\": -}", "p.json:1:46", "a '-' without digits",
+         SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Spots_Scale\": 1e}", "p.json:1:48",
+         "digits in its exponent", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"a\\u0000b\"}", "p.json:1:41",
+         "\\u0000 (a NUL character) inside a string", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"\\ud800x\"}", "p.json:1:40",
+         "a high surrogate", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"\\udc00\"}", "p.json:1:40",
+         "a lone low surrogate", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"\\x\"}", "p.json:1:40", "an unknown escape",
+         SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"a\nb\"}", "p.json:1:41", "a control character",
+         SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"abc", "p.json:1:42",
+         "at the end of the text (unfinished?): the text ends inside a string", SQ_ERR_PARSE},
+        /* columns count characters, not bytes */
+        {"{\"name\": \"caf\xc3\xa9\", \"format\": \"squama-preset/1\",}", "p.json:1:46", "a trailing comma",
+         SQ_ERR_PARSE},
         {"{\"format\": \"squama-preset/1\"} {}", "p.json:1:31", "unexpected text after",
          SQ_ERR_PARSE},
         /* meta keys */
@@ -281,6 +316,18 @@ static void nul_byte_size_and_key_limits(void **state)
     assert_int_equal(sq_preset_parse(nul, sizeof nul - 1, "p.json", &p, NULL, &err),
                      SQ_ERR_PARSE);
     assert_contains(err.what, "NUL byte");
+    assert_string_equal(err.where, "p.json:1:29");
+
+    /* nesting: 1000 deep is JSON (not a preset), 1001 deep is refused where it passes 1000 */
+    char deep[2 * 1001 + 1];
+    for (int d = 1000; d <= 1001; d++) {
+        memset(deep, '[', (size_t)d);
+        memset(deep + d, ']', (size_t)d);
+        assert_int_equal(sq_preset_parse(deep, 2 * (size_t)d, "p.json", &p, NULL, &err), d == 1000 ? SQ_ERR_INVALID : SQ_ERR_PARSE);
+        assert_contains(err.what, d == 1000 ? "a preset must be a JSON object" : "nested more than 1000 deep");
+        if (d == 1001)
+            assert_string_equal(err.where, "p.json:1:1001");
+    }
 
     /* many keys: refused without quadratic work */
     size_t cap = 64 * 2000;
