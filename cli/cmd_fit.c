@@ -85,7 +85,8 @@ static void on_sigint(int sig)
 }
 
 /* Loads DIR/checkpoint into seed candidates. */
-static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, double *seconds, SqError *err)
+static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, double *seconds, long *evals,
+                           SqError *err)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/checkpoint/checkpoint.json", dir);
@@ -101,16 +102,20 @@ static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, doub
     const cJSON *fmt = cJSON_GetObjectItemCaseSensitive(root, "format");
     const cJSON *front = cJSON_GetObjectItemCaseSensitive(root, "front");
     const cJSON *secs = cJSON_GetObjectItemCaseSensitive(root, "seconds");
+    const cJSON *ev = cJSON_GetObjectItemCaseSensitive(root, "evaluations"); /* absent: none known */
     if (!cJSON_IsString(fmt) || strcmp(fmt->valuestring, "squama-checkpoint/1") != 0 ||
-        !cJSON_IsArray(front) || !cJSON_IsNumber(secs)) {
+        !cJSON_IsArray(front) || !cJSON_IsNumber(secs) || !(secs->valuedouble >= 0) || (ev && !cJSON_IsNumber(ev)) ||
+        (ev && !(ev->valuedouble >= 0 && ev->valuedouble <= 1e15))) {
         cJSON_Delete(root);
-        sq_error_set(err, SQ_ERR_PARSE, path, "not a squama checkpoint (format squama-checkpoint/1 with a front)");
+        sq_error_set(err, SQ_ERR_PARSE, path,
+                     "not a squama checkpoint (format squama-checkpoint/1, a front, seconds and evaluations >= 0)");
         return -1;
     }
     int cnt = cJSON_GetArraySize(front);
     *seeds = calloc(cnt > 0 ? (size_t)cnt : 1, sizeof **seeds);
     *n = 0;
     *seconds = secs->valuedouble;
+    *evals = ev ? (long)ev->valuedouble : 0;
     if (!*seeds) {
         cJSON_Delete(root);
         sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
@@ -200,7 +205,8 @@ int cmd_fit(int argc, char **argv)
     SqFitCandidate *seeds = NULL;
     if (resume) {
         double spent = 0;
-        if (load_checkpoint(resume, &seeds, &job.fo.nseeds, &spent, &err) != 0)
+        long spent_evals = 0;
+        if (load_checkpoint(resume, &seeds, &job.fo.nseeds, &spent, &spent_evals, &err) != 0)
             return cli_fail(&err);
         if (job.fo.categories) { /* the checkpoint's presets of categories left out stay behind */
             int kept = 0;
@@ -214,8 +220,22 @@ int cmd_fit(int argc, char **argv)
         }
         job.fo.seeds = seeds;
         job.offset_s = spent;
+        job.offset_evals = spent_evals;
+        /* the budgets left, each at least what a fit needs to finish (10 s, 100 evaluations) */
         if (job.fo.budget > 0)
             job.fo.budget = fmax(10.0, job.fo.budget - spent);
+        if (job.fo.max_evals > 0)
+            job.fo.max_evals = spent_evals < job.fo.max_evals - 100 ? job.fo.max_evals - spent_evals : 100;
+        if (!job.quiet && !job.json) {
+            fprintf(stderr, "squama: resuming from %s: %d presets, %.1f s and %ld evaluations spent; ", resume,
+                    job.fo.nseeds, spent, spent_evals);
+            if (job.fo.max_evals > 0 && job.fo.budget > 0)
+                fprintf(stderr, "%ld evaluations and %.1f s left\n", job.fo.max_evals, job.fo.budget);
+            else if (job.fo.max_evals > 0)
+                fprintf(stderr, "%ld evaluations left\n", job.fo.max_evals);
+            else
+                fprintf(stderr, "%.1f s left\n", job.fo.budget);
+        }
     }
     job.stop = &stop_flag;
     struct sigaction sa = {0}, old;

@@ -26,6 +26,7 @@ typedef struct Ctx {
     double last_checkpoint, last_draw, budget;
     long max_evals;
     double offset_s;  /* time spent before the search: earlier runs' (a resume) and the preparation */
+    long offset_evals; /* evaluations spent by earlier runs (a resume) */
     char checkpoint_error[SQ_ERROR_WHAT_MAX + SQ_ERROR_WHERE_MAX + 8];
 } Ctx;
 
@@ -64,7 +65,7 @@ static void write_checkpoint(Ctx *x, const SqFitProgress *p)
     cJSON *root = cJSON_CreateObject(), *arr = cJSON_CreateArray();
     cJSON_AddStringToObject(root, "format", "squama-checkpoint/1");
     cJSON_AddNumberToObject(root, "seconds", p->elapsed + x->offset_s);
-    cJSON_AddNumberToObject(root, "evaluations", (double)p->evals);
+    cJSON_AddNumberToObject(root, "evaluations", (double)(p->evals + x->offset_evals));
     for (int i = 0; i < p->nfront; i++) {
         snprintf(path, sizeof path, "%s/checkpoint/%02d.json", x->outdir, i);
         if (cli_fit_write_preset(path, &p->front[i], "checkpoint", &err) != SQ_OK) {
@@ -127,6 +128,8 @@ static void progress(const SqFitProgress *p, void *ctx)
  * took; the budget it was given (the whole command's; the search's share is fo.budget). */
 typedef struct Clock {
     double t0, prepare, search, budget;
+    double resumed_s; /* what the runs before a resume spent */
+    long resumed_evals;
 } Clock;
 
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
@@ -248,6 +251,11 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_AddNumberToObject(se, "search_budget_s", fo->budget); /* less the photo's and the outputs' */
     cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
     cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
+    if (clock->resumed_evals > 0 || clock->resumed_s > 0) { /* a resume: what the runs before it spent */
+        cJSON *re = cJSON_AddObjectToObject(se, "resumed");
+        cJSON_AddNumberToObject(re, "evaluations", (double)clock->resumed_evals);
+        cJSON_AddNumberToObject(re, "seconds", round(clock->resumed_s * 1e3) / 1e3);
+    }
     cJSON_AddNumberToObject(se, "evaluations_per_s", clock->search > 0 ? r->evals / clock->search : 0);
     cJSON_AddBoolToObject(se, "stopped_early", r->stopped);
     cJSON *ti = cJSON_AddObjectToObject(se, "seconds");
@@ -514,7 +522,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         }
     if (job->fo.threads > 0)
         omp_set_num_threads(job->fo.threads); /* this thread's renders and photos too */
-    Clock clock = {.t0 = cli_now_s(), .budget = job->fo.budget};
+    Clock clock = {.t0 = cli_now_s(), .budget = job->fo.budget, .resumed_s = job->offset_s, .resumed_evals = job->offset_evals};
     CliPhoto in = {0};
     SqPrepared prep = {0};
     SqFeatures target;
@@ -548,6 +556,7 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
         x.budget = fo.budget;
         x.max_evals = fo.max_evals;
         x.offset_s = job->offset_s + clock.prepare; /* a resume is charged for the preparation too */
+        x.offset_evals = job->offset_evals;
         fo.progress = progress;
         fo.ctx = &x;
         fo.stop = job->stop;

@@ -18,6 +18,7 @@ typedef struct CliFitJob {
     int quiet, json;           /* progress: a bar on a terminal's stderr unless quiet;
                                   JSON lines on stdout with json */
     double offset_s;           /* seconds spent before a resume */
+    long offset_evals;         /* evaluations spent before a resume */
     volatile int *stop;        /* nonzero: finish with the best so far */
     int budget_given;          /* --budget was given (with --evals: both apply) */
 } CliFitJob;

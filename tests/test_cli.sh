@@ -388,6 +388,25 @@ fi
 run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 64 -j 2 --resume "$TMP/fit" -q
 check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
+# an evaluation budget is charged for the evaluations the checkpoint spent, as a time budget is
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr4" --evals 1000 --size 64 -j 2 --resume "$TMP/fit"
+check "fit --resume --evals" 0 err "resuming from $TMP/fit: "
+if command -v python3 >/dev/null; then
+  python3 - "$TMP/fit" "$TMP/fitr4" "$err" <<'PY' || { echo "FAIL: fit --resume charged the checkpoint's evaluations"; fails=$((fails + 1)); }
+import json, sys
+spent = json.load(open(sys.argv[1] + "/checkpoint/checkpoint.json"))["evaluations"]
+fit = json.load(open(sys.argv[2] + "/fit.json"))["search"]
+again = json.load(open(sys.argv[2] + "/checkpoint/checkpoint.json"))["evaluations"]
+assert 0 < spent < 900, spent
+assert fit["max_evaluations"] == 1000 - spent, (fit["max_evaluations"], spent)
+assert fit["resumed"]["evaluations"] == spent, fit["resumed"]
+assert spent < again <= spent + fit["evaluations"], (spent, again, fit["evaluations"])
+assert ("%d evaluations spent; %d evaluations left" % (spent, 1000 - spent)) in open(sys.argv[3]).read()
+PY
+fi
+sed 's/"evaluations": [0-9]*/"evaluations": -3/' "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/negev.json"
+mkdir -p "$TMP/negev/checkpoint" && cp "$TMP/fit/checkpoint/"*.json "$TMP/negev/checkpoint/" && mv "$TMP/negev.json" "$TMP/negev/checkpoint/checkpoint.json"
+run fit "$TMP/p.jpg" -o "$TMP/fitr5" --evals 100 --resume "$TMP/negev"; check "fit --resume negative evaluations" 1 err "evaluations >= 0"
 run fit "$TMP/p.jpg" -o "$TMP/fitr2" --evals 100 --resume "$TMP/nowhere"; check "fit --resume missing" 1 err "$TMP/nowhere"
 mkdir -p "$TMP/cut/checkpoint" && head -c 60 "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/cut/checkpoint/checkpoint.json"
 run fit "$TMP/p.jpg" -o "$TMP/fitr3" --evals 100 --resume "$TMP/cut"; check "fit --resume cut short" 1 err "malformed JSON at the end of the text (unfinished?)" err "$TMP/cut/checkpoint/checkpoint.json:"
