@@ -36,7 +36,7 @@ int cli_usage(const char *cmd, const char *fmt, ...)
     return CLI_USAGE;
 }
 
-int cli_bad_option(const char *cmd, char *const argv[], int c)
+int cli_bad_option(const char *cmd, char *const argv[], int c, const struct option *opts)
 {
     const char *word = optind > 0 ? argv[optind - 1] : "?";
     if (strncmp(word, "--", 2) != 0) { /* a short option, perhaps in a cluster: the letter */
@@ -50,6 +50,17 @@ int cli_bad_option(const char *cmd, char *const argv[], int c)
         return cli_usage(cmd, "%.*s needs a value", len, word);
     if (eq && optopt) /* a known option given a value it does not take */
         return cli_usage(cmd, "%.*s takes no value", len, word);
+    /* a prefix of several long options (an exact name or one match getopt takes) */
+    char names[256] = "";
+    int matches = 0;
+    for (const struct option *o = opts; o && o->name; o++)
+        if (len > 2 && strncmp(o->name, word + 2, (size_t)(len - 2)) == 0) {
+            size_t k = strlen(names);
+            snprintf(names + k, sizeof names - k, "%s--%s", matches ? ", " : "", o->name);
+            matches++;
+        }
+    if (matches > 1)
+        return cli_usage(cmd, "ambiguous option '%.*s': %s?", len, word, names);
     return cli_usage(cmd, "unknown option '%.*s'", len, word);
 }
 

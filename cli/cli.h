@@ -108,8 +108,10 @@ int cli_fail(const SqError *err);
 int cli_usage(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* getopt_long's refusal c (':' a value missing, with ':' leading the option string; else
- * an unknown option) as a usage error naming the option as typed. */
-int cli_bad_option(const char *cmd, char *const argv[], int c);
+ * an unknown or ambiguous option, ambiguous ones named with the long options they begin)
+ * as a usage error naming the option as typed. */
+struct option;
+int cli_bad_option(const char *cmd, char *const argv[], int c, const struct option *opts);
 
 /* Parses "N" or "WxH" with both sides in [lo, hi]; 1 on success. */
 int cli_parse_size(const char *s, int lo, int hi, int *w, int *h);

@@ -483,7 +483,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
             fputs(help_more, stdout);
             return CLI_OK;
         default:
-            return cli_bad_option("batch", argv, c);
+            return cli_bad_option("batch", argv, c, opts);
         }
     }
     if (!b.outdir)

@@ -192,7 +192,7 @@ int cmd_fit(int argc, char **argv)
         case O_JSON: job.json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("fit", argv, c);
+            return cli_bad_option("fit", argv, c, opts);
         }
     }
     if (argc - optind != 1)

@@ -215,7 +215,7 @@ int cmd_params(int argc, char **argv)
         case 'j': json = 1; break;
         case 'm': md = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
-        default: return cli_bad_option("params", argv, c);
+        default: return cli_bad_option("params", argv, c, opts);
         }
     }
     if (json && md)

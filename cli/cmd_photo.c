@@ -160,7 +160,7 @@ int cmd_photo(int argc, char **argv)
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("photo", argv, c);
+            return cli_bad_option("photo", argv, c, opts);
         }
     }
     if (argc - optind != 1)

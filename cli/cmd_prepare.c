@@ -216,7 +216,7 @@ int cmd_prepare(int argc, char **argv)
         case O_DEBUG: debug = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("prepare", argv, c);
+            return cli_bad_option("prepare", argv, c, opts);
         }
     }
     if (argc - optind != 1)

@@ -235,7 +235,7 @@ int cmd_presets(int argc, char **argv)
         case ':':
         case '?':
         default:
-            return cli_bad_option("presets", argv, c);
+            return cli_bad_option("presets", argv, c, opts);
         }
     }
     if (optind >= argc)

@@ -149,7 +149,7 @@ int cmd_render(int argc, char **argv)
         case 'q': quiet = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("render", argv, c);
+            return cli_bad_option("render", argv, c, opts);
         }
     }
     const int png = strcmp(ext, "png") == 0;

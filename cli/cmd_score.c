@@ -74,7 +74,7 @@ int cmd_score(int argc, char **argv)
             break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("score", argv, c);
+            return cli_bad_option("score", argv, c, opts);
         }
     }
     if (argc - optind < 2)

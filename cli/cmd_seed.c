@@ -472,7 +472,7 @@ int cmd_seed(int argc, char **argv)
         case O_JSON: json = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
-            return cli_bad_option("seed", argv, c);
+            return cli_bad_option("seed", argv, c, opts);
         }
         if (m) {
             if (mode && mode != m)

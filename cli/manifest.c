@@ -29,19 +29,23 @@ static int is_column(const char *f, const char *name)
     return n == strlen(name) && strncasecmp(f, name, n) == 0;
 }
 
-/* The column whose trimmed header equals (any case) the first name present, or -1; -2
- * when that name heads two columns (which one holds the rows' values?). */
-static int find_column(const SqCsvRecord *h, const char *const *names)
+/* The column whose trimmed header equals (any case) one of names, or -1; -2 when two
+ * columns do (which one holds the rows' values?), their headers then in two[0], two[1]. */
+static int find_column(const SqCsvRecord *h, const char *const *names, const char *two[2])
 {
-    for (; *names; names++)
-        for (int i = 0; i < h->nfields; i++)
-            if (is_column(h->fields[i], *names)) {
-                for (int j = i + 1; j < h->nfields; j++)
-                    if (is_column(h->fields[j], *names))
-                        return -2;
-                return i;
+    int found = -1;
+    for (int i = 0; i < h->nfields; i++)
+        for (const char *const *n = names; *n; n++)
+            if (is_column(h->fields[i], *n)) {
+                if (found >= 0) {
+                    two[0] = h->fields[found];
+                    two[1] = h->fields[i];
+                    return -2;
+                }
+                found = i;
+                break;
             }
-    return -1;
+    return found;
 }
 
 int cli_manifest_id_ok(const char *id)
@@ -138,19 +142,24 @@ static SqStatus from_csv(SqCsv *csv, const char *path, CliManifest *m, SqError *
         return sq_error_set(err, SQ_ERR_PARSE, where, "the manifest is empty: it needs a header naming an id and a photo column");
     }
     const SqCsvRecord *h = &csv->records[0];
-    int cid = find_column(h, id_names), cphoto = find_column(h, photo_names);
-    int cmask = find_column(h, mask_names), cexp = find_column(h, expected_names);
-    int cspecies = find_column(h, species_names), cline = find_column(h, line_names);
-    snprintf(where, sizeof where, "%s:%d", path, h->line);
-    const int cols[] = {cid, cphoto, cmask, cexp, cspecies, cline};
+    static const char *const *const names[] = {id_names, photo_names, mask_names, expected_names, species_names,
+                                               line_names};
     static const char *const roles[] = {"id", "photo", "mask", "expected", "species", "body_line"};
-    for (int k = 0; k < 6; k++)
+    int cols[6];
+    snprintf(where, sizeof where, "%s:%d", path, h->line);
+    for (int k = 0; k < 6; k++) {
+        const char *two[2] = {"", ""};
+        cols[k] = find_column(h, names[k], two);
         if (cols[k] == -2) {
-            sq_error_set(err, SQ_ERR_PARSE, where, "the manifest's header names its %s column twice", roles[k]);
+            sq_error_set(err, SQ_ERR_PARSE, where,
+                         "the manifest's header names its %s column twice, \"%.60s\" and \"%.60s\": keep one", roles[k],
+                         two[0], two[1]);
             sq_io_csv_free(csv);
             free(csv);
             return SQ_ERR_PARSE;
         }
+    }
+    const int cid = cols[0], cphoto = cols[1], cmask = cols[2], cexp = cols[3], cspecies = cols[4], cline = cols[5];
     if (cid < 0 || cphoto < 0) {
         sq_error_set(err, SQ_ERR_PARSE, where,
                      "the manifest's header has no %s column (the first line must name the columns: "

@@ -90,6 +90,8 @@ run render x.json -o "$TMP/never" --size; check "render --size without a value" 
 run fit x.jpg -o "$TMP/never" -b; check "fit -b without a value" 2 err "-b needs a value"
 run fit -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster" 2 err "unknown option '-x'"
 run fit x.jpg -o "$TMP/never" --json=1; check "a value for a flag" 2 err "--json takes no value"
+run fit x.jpg -o "$TMP/never" --s=3; check "an ambiguous prefix" 2 err "ambiguous option '--s': --seed, --size? (see 'squama fit --help')"
+run fit x.jpg -o "$TMP/never" --sed 3; check "an unknown option" 2 err "unknown option '--sed'"
 run presets frob;         check "presets unknown subcommand" 2 err "unknown subcommand 'frob'"
 SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
 check "SQUAMA_PRESETS" 0 out "daboia_russelii.ca"

@@ -89,6 +89,10 @@ static void malformed_manifests(void **state)
         {"id,photo\na,\"a.jpg\nb,b.jpg\n", "unterminated quoted field", "m.csv:2"},
         {"id,photo,ID\na,a.jpg,b\n", "names its id column twice", "m.csv:1"},
         {"id,photo, Species ,species\na,a.jpg,x,y\n", "names its species column twice", "m.csv:1"},
+        /* two names of one role: which holds the photos? */
+        {"id,photo,image\na,a.jpg,b.jpg\n", "names its photo column twice, \"photo\" and \"image\": keep one", "m.csv:1"},
+        {"file,id,category,pattern_category_guess\na.jpg,a,spots,bands\n",
+         "names its expected column twice, \"category\" and \"pattern_category_guess\"", "m.csv:1"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         CliManifest m;
