@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "squama/io.h"
 
 int cli_fail(const SqError *err)
 {
@@ -62,6 +63,58 @@ int cli_bad_option(const char *cmd, char *const argv[], int c, const struct opti
     if (matches > 1)
         return cli_usage(cmd, "ambiguous option '%.*s': %s?", len, word, names);
     return cli_usage(cmd, "unknown option '%.*s'", len, word);
+}
+
+SqStatus cli_staging_open(CliStaging *s, const char *pattern, int cap, SqError *err)
+{
+    memset(s, 0, sizeof *s);
+    s->files = calloc(cap > 0 ? (size_t)cap : 1, sizeof *s->files);
+    if (!s->files)
+        return sq_error_set(err, SQ_ERR_NOMEM, pattern, "out of memory");
+    s->cap = cap;
+    snprintf(s->dir, sizeof s->dir, "%s", pattern);
+    if (!mkdtemp(s->dir)) {
+        SqStatus st = sq_error_set(err, SQ_ERR_IO, pattern, "cannot create a temporary folder: %s", strerror(errno));
+        s->dir[0] = 0;
+        cli_staging_free(s);
+        return st;
+    }
+    sq_io_temp_add(s->dir);
+    return SQ_OK;
+}
+
+void cli_staging_path(CliStaging *s, const char *name, char *path, size_t n)
+{
+    snprintf(path, n, "%s/%s", s->dir, name);
+    if (s->nfiles < s->cap) {
+        snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
+        sq_io_temp_add(path);
+    }
+}
+
+void cli_staging_release(CliStaging *s, int remove)
+{
+    char path[4200];
+    for (int i = 0; i < s->nfiles; i++) {
+        snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
+        if (remove)
+            unlink(path);
+        sq_io_temp_forget(path);
+    }
+    if (s->dir[0]) {
+        if (remove)
+            rmdir(s->dir);
+        sq_io_temp_forget(s->dir);
+    }
+    s->nfiles = 0;
+    s->dir[0] = 0;
+}
+
+void cli_staging_free(CliStaging *s)
+{
+    cli_staging_release(s, 1);
+    free(s->files);
+    s->files = NULL;
 }
 
 /* path with its folder resolved (realpath), in out (n bytes); 0, or -1 when the folder

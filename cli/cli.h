@@ -41,6 +41,25 @@ typedef struct CliMade {
 int cli_mkdirs_new(const char *path, CliMade *made);
 void cli_rmdirs_new(const char *path, const CliMade *made);
 
+/* A temporary folder that outputs are written into first, then renamed into place, so
+ * that a failure or an interruption leaves either the new outputs or the old ones. The
+ * folder and each file named in it are registered with the io module's temporary files,
+ * which an interrupted run removes (cli_fatal_signal). */
+typedef struct CliStaging {
+    char dir[4096];
+    int nfiles, cap;
+    char (*files)[32];
+} CliStaging;
+/* mkdtemp(pattern), pattern ending in XXXXXX, with room for cap file names */
+SqStatus cli_staging_open(CliStaging *s, const char *pattern, int cap, SqError *err);
+/* s's next file name (under 32 bytes), its path in path (n bytes), registered */
+void cli_staging_path(CliStaging *s, const char *name, char *path, size_t n);
+/* s's files and folder no longer temporary; removed first when remove is set (a file
+ * already renamed away is not there to remove) */
+void cli_staging_release(CliStaging *s, int remove);
+/* cli_staging_release(s, 1), and s's memory freed */
+void cli_staging_free(CliStaging *s);
+
 /* 1 when a and b name the same file: the same inode if both exist, else the same path
  * once their folders are resolved. */
 int cli_same_file(const char *a, const char *b);

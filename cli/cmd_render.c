@@ -90,6 +90,71 @@ static int render_sheet(const char *out, char **files, int n, int size, int cols
     return rc;
 }
 
+/* The maps (and the preview) into a temporary folder inside outdir, then each renamed into
+ * place: a failure or an interruption while they are written leaves the maps that were there
+ * before, not some new and some old. A folder the command made is removed on failure. */
+static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextures *tex, SqGenOptions go,
+                           const char *ext, int bits, int preview, int quiet, SqError *err)
+{
+    CliMade made;
+    if (cli_mkdirs_new(outdir, &made) != 0)
+        return sq_error_set(err, SQ_ERR_IO, outdir, "cannot create the output folder: %s", strerror(errno));
+    const int png = strcmp(ext, "png") == 0;
+    struct { const char *name; const SqImage *img; int bits; } maps[] = {
+        {"basecolor", &tex->basecolor, 8}, {"height", &tex->height, 16},
+        {"roughness", &tex->roughness, 8}, {"normal", &tex->normal, 8}};
+    enum { NMAPS = sizeof maps / sizeof maps[0] };
+    char names[NMAPS + 1][32], pattern[4200], path[4200];
+    snprintf(pattern, sizeof pattern, "%s/.render.tmp-XXXXXX", outdir);
+    CliStaging stg;
+    SqStatus st = cli_staging_open(&stg, pattern, NMAPS + 1, err);
+    int n = 0;
+    for (int i = 0; i < NMAPS && st == SQ_OK; i++, n++) {
+        snprintf(names[i], sizeof names[i], "%s.%s", maps[i].name, ext);
+        cli_staging_path(&stg, names[i], path, sizeof path);
+        SqWriteOptions wo = {.format = png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
+                             .bits = bits ? bits : (png ? maps[i].bits : 16)};
+        st = sq_io_write_image(path, maps[i].img, &wo, err);
+    }
+    if (st == SQ_OK && preview) {
+        SqPhotoOptions po = sq_fit_photo_options_default();
+        po.width = 1024;
+        po.height = 640;
+        po.preview = 1;
+        po.view_scale = 1.5;
+        po.texture_size = go.width < 1024 ? go.width : 1024;
+        SqImage photo, mask;
+        snprintf(names[n], sizeof names[n], "preview.png");
+        cli_staging_path(&stg, names[n++], path, sizeof path);
+        st = sq_fit_synth_photo(p, &po, &photo, &mask, NULL, err);
+        if (st == SQ_OK) {
+            st = sq_io_write_image(path, &photo, NULL, err);
+            sq_image_free(&photo);
+            sq_image_free(&mask);
+        }
+    }
+    for (int i = 0; i < n && st == SQ_OK; i++) { /* all written: a folder in a map's place stops all */
+        struct stat sb;
+        snprintf(path, sizeof path, "%s/%.31s", outdir, names[i]);
+        if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+            st = sq_error_set(err, SQ_ERR_IO, path, "a folder is where the map goes; no map was written");
+    }
+    for (int i = 0; i < n && st == SQ_OK; i++) { /* into place */
+        char to[4200];
+        snprintf(path, sizeof path, "%s/%.31s", stg.dir, names[i]);
+        snprintf(to, sizeof to, "%s/%s", outdir, names[i]);
+        if (rename(path, to) != 0)
+            st = sq_error_set(err, SQ_ERR_IO, to, "cannot move the map into place: %s", strerror(errno));
+        else if (!quiet)
+            printf("wrote %s\n", to);
+    }
+    if (stg.files)
+        cli_staging_free(&stg);
+    if (st != SQ_OK)
+        cli_rmdirs_new(outdir, &made);
+    return st;
+}
+
 int cmd_render(int argc, char **argv)
 {
     enum { OPT_CA = 1000, OPT_SEED, OPT_DIRECTX, OPT_PREVIEW, OPT_SHEET, OPT_COLS };
@@ -187,54 +252,16 @@ int cmd_render(int argc, char **argv)
     }
     if (seed >= 0)
         p.Seed = (int)seed;
-    if (cli_mkdirs(outdir) != 0) {
-        sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the output folder: %s", strerror(errno));
-        return cli_fail(&err);
-    }
 
     double t0 = now_ms();
     SqTextures tex;
     if (sq_gen_render(&p, &go, &tex, &err) != SQ_OK)
         return cli_fail(&err);
     double t1 = now_ms();
-
-    struct { const char *name; const SqImage *img; int bits; } maps[] = {
-        {"basecolor", &tex.basecolor, 8}, {"height", &tex.height, 16},
-        {"roughness", &tex.roughness, 8}, {"normal", &tex.normal, 8}};
-    int rc = CLI_OK;
-    for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++) {
-        char path[4096];
-        snprintf(path, sizeof path, "%s/%s.%s", outdir, maps[i].name, ext);
-        SqWriteOptions wo = {.format = png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
-                             .bits = bits ? bits : (png ? maps[i].bits : 16)};
-        if (sq_io_write_image(path, maps[i].img, &wo, &err) != SQ_OK) {
-            rc = cli_fail(&err);
-            break;
-        }
-        if (!quiet)
-            printf("wrote %s\n", path);
-    }
+    const int rc = write_maps(outdir, &p, &tex, go, ext, bits, preview, quiet, &err) == SQ_OK ? CLI_OK : cli_fail(&err);
     if (!quiet && rc == CLI_OK)
         printf("%dx%d %s pattern: generated in %.0f ms, written in %.0f ms\n", go.width, go.height,
                sq_pattern_type_name(p.Pattern_Type), t1 - t0, now_ms() - t1);
-    if (rc == CLI_OK && preview) {
-        SqPhotoOptions po = sq_fit_photo_options_default();
-        po.width = 1024;
-        po.height = 640;
-        po.preview = 1;
-        po.view_scale = 1.5;
-        po.texture_size = go.width < 1024 ? go.width : 1024;
-        SqImage photo, mask;
-        char path[4096];
-        snprintf(path, sizeof path, "%s/preview.png", outdir);
-        if (sq_fit_synth_photo(&p, &po, &photo, &mask, NULL, &err) != SQ_OK ||
-            sq_io_write_image(path, &photo, NULL, &err) != SQ_OK)
-            rc = cli_fail(&err);
-        else if (!quiet)
-            printf("wrote %s\n", path);
-        sq_image_free(&photo);
-        sq_image_free(&mask);
-    }
     sq_gen_textures_free(&tex);
     return rc;
 }

@@ -128,52 +128,10 @@ static int usable_dir(const char *path, SqError *err)
     return empty;
 }
 
-/* The temporary folder beside DIR that everything is written into first, and the names
- * written there, to clean up after a failure; each also registered with the io module's
- * temporary files, which an interrupted run removes (cli_fatal_signal). */
-typedef struct Staging {
-    char dir[4096];
-    int nfiles;
-    char (*files)[32];
-} Staging;
-
-/* s's files and folder no longer temporary; removed first when remove is set */
-static void staging_release(Staging *s, int remove)
+static SqStatus stage_file(CliStaging *s, const char *name, const void *data, size_t len, SqError *err)
 {
     char path[4200];
-    for (int i = 0; i < s->nfiles; i++) {
-        snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
-        if (remove)
-            unlink(path);
-        sq_io_temp_forget(path);
-    }
-    if (s->dir[0]) {
-        if (remove)
-            rmdir(s->dir);
-        sq_io_temp_forget(s->dir);
-    }
-    s->nfiles = 0;
-    s->dir[0] = 0;
-}
-
-static void staging_clean(Staging *s)
-{
-    staging_release(s, 1);
-    free(s->files);
-}
-
-/* s's next file, its path in path (n bytes), registered as temporary */
-static void stage_name(Staging *s, const char *name, char *path, size_t n)
-{
-    snprintf(path, n, "%s/%s", s->dir, name);
-    snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
-    sq_io_temp_add(path);
-}
-
-static SqStatus stage_file(Staging *s, const char *name, const void *data, size_t len, SqError *err)
-{
-    char path[4200];
-    stage_name(s, name, path, sizeof path);
+    cli_staging_path(s, name, path, sizeof path);
     return sq_io_write_file(path, data, len, err);
 }
 
@@ -296,32 +254,22 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
                           SqError *err)
 {
     const SqSeedResult *r = s->r;
-    Staging stg = {.files = calloc((size_t)r->n + 2, sizeof *stg.files)};
-    if (!stg.files)
-        return sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+    CliStaging stg = {0};
     size_t len = strlen(outdir);
     while (len > 1 && outdir[len - 1] == '/') /* "out/" -> "out.tmp-..." */
         len--;
     /* the parent first: mkdtemp makes one folder only */
-    snprintf(stg.dir, sizeof stg.dir, "%.*s", (int)len, outdir);
-    char *slash = strrchr(stg.dir, '/');
-    if (slash && slash != stg.dir) {
+    char pattern[4200];
+    snprintf(pattern, sizeof pattern, "%.*s", (int)len, outdir);
+    char *slash = strrchr(pattern, '/');
+    if (slash && slash != pattern) {
         *slash = '\0';
-        if (cli_mkdirs(stg.dir) != 0) {
-            SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create the folder: %s", strerror(errno));
-            stg.dir[0] = 0;
-            staging_clean(&stg);
-            return st;
-        }
+        if (cli_mkdirs(pattern) != 0)
+            return sq_error_set(err, SQ_ERR_IO, pattern, "cannot create the folder: %s", strerror(errno));
     }
-    snprintf(stg.dir, sizeof stg.dir, "%.*s.tmp-XXXXXX", (int)len, outdir);
-    if (!mkdtemp(stg.dir)) {
-        SqStatus st = sq_error_set(err, SQ_ERR_IO, stg.dir, "cannot create a temporary folder: %s", strerror(errno));
-        stg.dir[0] = 0;
-        staging_clean(&stg);
-        return st;
-    }
-    sq_io_temp_add(stg.dir);
+    snprintf(pattern, sizeof pattern, "%.*s.tmp-XXXXXX", (int)len, outdir);
+    if (cli_staging_open(&stg, pattern, r->n + 2, err) != SQ_OK)
+        return err->status;
     SqStatus st = SQ_OK;
     SqPresetInfo *info = malloc(sizeof *info);
     char(*labels)[64] = malloc(sizeof *labels * (size_t)r->n);
@@ -360,7 +308,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     }
     if (st == SQ_OK) {
         char path[4200];
-        stage_name(&stg, "sheet.png", path, sizeof path);
+        cli_staging_path(&stg, "sheet.png", path, sizeof path);
         SqGenOptions go = sq_gen_options_default(size);
         go.threads = threads;
         st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
@@ -370,7 +318,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
         if (rename(stg.dir, outdir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
         else /* in place: nothing of it is temporary now */
-            staging_release(&stg, 0);
+            cli_staging_release(&stg, 0);
     }
     if (st == SQ_OK && json)
         fputs(text, stdout);
@@ -379,7 +327,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     free(labels);
     free(lp);
     free(presets);
-    staging_clean(&stg);
+    cli_staging_free(&stg);
     return st;
 }
 

@@ -108,6 +108,16 @@ check "render png" 0 out "wrote $TMP/r/deep/basecolor.png" out "64x48 spots patt
 for m in basecolor height roughness normal; do
   [ -s "$TMP/r/deep/$m.png" ] || { echo "FAIL: $m.png missing"; fails=$((fails + 1)); }
 done
+# the maps are a set: a render that cannot write one of them leaves the ones there before
+cp -r "$TMP/r/deep" "$TMP/r/set" && rm "$TMP/r/set/normal.png" && mkdir "$TMP/r/set/normal.png"
+cp "$TMP/r/set/basecolor.png" "$TMP/r/set_before.png"
+run render "$SRC/presets/thesis/table_4_1_transversal.json" -o "$TMP/r/set" --size 32
+check "render into a set it cannot finish" 1 err "a folder is where the map goes; no map was written ($TMP/r/set/normal.png)"
+cmp -s "$TMP/r/set/basecolor.png" "$TMP/r/set_before.png" || { echo "FAIL: a failed render replaced basecolor.png"; fails=$((fails + 1)); }
+[ "$(ls -A "$TMP/r/set" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a failed render left: $(ls -A "$TMP/r/set")"; fails=$((fails + 1)); }
+run render "$TMP/complex_missing.json" -o "$TMP/r/new/deeper" --size 32
+check "render of a missing preset" 1 err "cannot open preset"
+[ -e "$TMP/r/new" ] && { echo "FAIL: a failed render left a folder"; fails=$((fails + 1)); }
 run render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/exr" --size 32 --format exr -q
 check "render exr" 0
 [ -s "$TMP/r/exr/height.exr" ] || { echo "FAIL: height.exr missing"; fails=$((fails + 1)); }
