@@ -37,9 +37,36 @@ int cli_usage(const char *cmd, const char *fmt, ...)
     return CLI_USAGE;
 }
 
+/* 1 when word is "--name=value" for the long option (or the one long option name begins)
+ * whose value is val: getopt refused it a value, and optopt is its val */
+static int long_refused(const char *word, int val, const struct option *opts)
+{
+    const char *eq = strchr(word, '=');
+    if (strncmp(word, "--", 2) != 0 || !eq)
+        return 0;
+    const size_t len = (size_t)(eq - word - 2);
+    const struct option *hit = NULL;
+    int hits = 0;
+    for (const struct option *o = opts; o && o->name; o++)
+        if (strncmp(o->name, word + 2, len) == 0) {
+            if (strlen(o->name) == len)
+                return o->val == val;
+            hit = o;
+            hits++;
+        }
+    return hits == 1 && hit->val == val;
+}
+
 int cli_bad_option(const char *cmd, char *const argv[], int c, const struct option *opts)
 {
     const char *word = optind > 0 ? argv[optind - 1] : "?";
+    /* getopt moves optind past a cluster of short options only after its last letter: a
+     * letter refused inside one leaves optind on it (argv ends in NULL, so argv[optind] is
+     * safe to look at) */
+    const char *cur = optind > 0 ? argv[optind] : NULL;
+    if (cur && cur[0] == '-' && cur[1] && cur[1] != '-' && optopt > 0 && optopt < 128 && strchr(cur + 1, optopt) &&
+        !(c != ':' && long_refused(word, optopt, opts)))
+        word = cur;
     if (strncmp(word, "--", 2) != 0) { /* a short option, perhaps in a cluster: the letter */
         if (c == ':')
             return cli_usage(cmd, "-%c needs a value", optopt);

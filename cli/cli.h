@@ -40,6 +40,10 @@ typedef struct CliMade {
 } CliMade;
 int cli_mkdirs_new(const char *path, CliMade *made);
 void cli_rmdirs_new(const char *path, const CliMade *made);
+/* The folders made, registered with the io module's temporary files (an interrupted run
+ * removes them when empty), and forgotten again once the run is through. */
+void cli_made_register(const char *path, const CliMade *made);
+void cli_made_forget(const char *path, const CliMade *made);
 
 /* A temporary folder that outputs are written into first, then renamed into place, so
  * that a failure or an interruption leaves either the new outputs or the old ones. The

@@ -104,11 +104,13 @@ static int load_checkpoint(const char *dir, SqFitCandidate **seeds, int *n, doub
     const cJSON *secs = cJSON_GetObjectItemCaseSensitive(root, "seconds");
     const cJSON *ev = cJSON_GetObjectItemCaseSensitive(root, "evaluations"); /* absent: none known */
     if (!cJSON_IsString(fmt) || strcmp(fmt->valuestring, "squama-checkpoint/1") != 0 ||
-        !cJSON_IsArray(front) || !cJSON_IsNumber(secs) || !(secs->valuedouble >= 0) || (ev && !cJSON_IsNumber(ev)) ||
-        (ev && !(ev->valuedouble >= 0 && ev->valuedouble <= 1e15))) {
+        !cJSON_IsArray(front) || !cJSON_IsNumber(secs) || !(secs->valuedouble >= 0 && secs->valuedouble <= 1e9) ||
+        (ev && (!cJSON_IsNumber(ev) || !(ev->valuedouble >= 0 && ev->valuedouble <= 1e15) ||
+                ev->valuedouble != floor(ev->valuedouble)))) {
         cJSON_Delete(root);
         sq_error_set(err, SQ_ERR_PARSE, path,
-                     "not a squama checkpoint (format squama-checkpoint/1, a front, seconds and evaluations >= 0)");
+                     "not a squama checkpoint (format squama-checkpoint/1, a front, seconds from 0 to 1e9 and a "
+                     "whole number of evaluations >= 0)");
         return -1;
     }
     int cnt = cJSON_GetArraySize(front);

@@ -82,6 +82,22 @@ int cli_mkdirs(const char *path)
     return cli_mkdirs_new(path, NULL);
 }
 
+void cli_made_register(const char *path, const CliMade *made)
+{
+    char buf[4096];
+    for (int i = made->n - 1; i >= 0; i--)
+        if (snprintf(buf, sizeof buf, "%.*s", made->len[i], path) < (int)sizeof buf)
+            sq_io_temp_add(buf);
+}
+
+void cli_made_forget(const char *path, const CliMade *made)
+{
+    char buf[4096];
+    for (int i = 0; i < made->n; i++)
+        if (snprintf(buf, sizeof buf, "%.*s", made->len[i], path) < (int)sizeof buf)
+            sq_io_temp_forget(buf);
+}
+
 void cli_rmdirs_new(const char *path, const CliMade *made)
 {
     char buf[4096];

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "sheet.h"
@@ -99,6 +100,7 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
     CliMade made;
     if (cli_mkdirs_new(outdir, &made) != 0)
         return sq_error_set(err, SQ_ERR_IO, outdir, "cannot create the output folder: %s", strerror(errno));
+    cli_made_register(outdir, &made); /* an interrupted render removes them when empty */
     const int png = strcmp(ext, "png") == 0;
     struct { const char *name; const SqImage *img; int bits; } maps[] = {
         {"basecolor", &tex->basecolor, 8}, {"height", &tex->height, 16},
@@ -139,19 +141,56 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
             st = sq_error_set(err, SQ_ERR_IO, path, "a folder is where the map goes; no map was written");
     }
-    for (int i = 0; i < n && st == SQ_OK; i++) { /* into place */
-        char to[4200];
+    /* into place, each old map set aside in the staging folder until every new one is in:
+     * a rename that fails puts the old ones back */
+    char to[NMAPS + 1][4200], old[NMAPS + 1][4200];
+    int moved = 0, kept[NMAPS + 1] = {0};
+    for (int i = 0; i < n && st == SQ_OK; i++) {
+        struct stat sb;
         snprintf(path, sizeof path, "%s/%.31s", stg.dir, names[i]);
-        snprintf(to, sizeof to, "%s/%s", outdir, names[i]);
-        if (rename(path, to) != 0)
-            st = sq_error_set(err, SQ_ERR_IO, to, "cannot move the map into place: %s", strerror(errno));
-        else if (!quiet)
-            printf("wrote %s\n", to);
+        snprintf(old[i], sizeof old[i], "%s/old-%.31s", stg.dir, names[i]);
+        snprintf(to[i], sizeof to[i], "%s/%.31s", outdir, names[i]);
+        if (lstat(to[i], &sb) == 0) {
+            if (rename(to[i], old[i]) != 0) {
+                st = sq_error_set(err, SQ_ERR_IO, to[i], "cannot replace the map: %s; no map was written",
+                                  strerror(errno));
+                break;
+            }
+            kept[i] = 1;
+        }
+        if (rename(path, to[i]) != 0) {
+            st = sq_error_set(err, SQ_ERR_IO, to[i], "cannot move the map into place: %s; no map was written",
+                              strerror(errno));
+            if (kept[i] && rename(old[i], to[i]) == 0)
+                kept[i] = 0;
+            break;
+        }
+        moved = i + 1;
+    }
+    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--) /* the old set back */
+        if (kept[i] ? rename(old[i], to[i]) == 0 : unlink(to[i]) == 0)
+            kept[i] = 0;
+    for (int i = 0; i < moved && st == SQ_OK; i++) {
+        if (kept[i])
+            unlink(old[i]);
+        kept[i] = 0;
+        if (!quiet)
+            printf("wrote %s\n", to[i]);
+    }
+    if (st != SQ_OK && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 && err->where[strlen(stg.dir)] == '/') {
+        char staged[64]; /* the map's own name, not the staging folder's */
+        snprintf(staged, sizeof staged, "%.63s", err->where + strlen(stg.dir) + 1);
+        if (cli_pathf(err->where, sizeof err->where, "%s/%s", outdir, staged) != 0)
+            snprintf(err->where, sizeof err->where, "%s", staged);
     }
     if (stg.files)
         cli_staging_free(&stg);
+    for (int i = 0; i < n; i++) /* an old map that could not be put back stays, set aside */
+        if (kept[i])
+            fprintf(stderr, "squama: the old %s is kept as %s\n", to[i], old[i]);
     if (st != SQ_OK)
         cli_rmdirs_new(outdir, &made);
+    cli_made_forget(outdir, &made);
     return st;
 }
 

@@ -314,7 +314,11 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
         st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
     }
     if (st == SQ_OK) {
-        /* DIR was checked new or empty; a rename over an empty folder replaces it */
+        /* DIR was checked new or empty; a rename over an empty folder replaces it. mkdtemp
+         * made the folder private (0700): it gets a folder's usual mode under the umask */
+        const mode_t mask = umask(0);
+        umask(mask);
+        chmod(stg.dir, 0777 & ~mask);
         if (rename(stg.dir, outdir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
         else /* in place: nothing of it is temporary now */

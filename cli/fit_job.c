@@ -91,7 +91,9 @@ static void progress(const SqFitProgress *p, void *ctx)
 {
     Ctx *x = ctx;
     double t = cli_now_s();
-    if (t - x->last_checkpoint > 5 || strcmp(p->stage, "screen") == 0) {
+    /* every 5 s, and at each stage's end but the evolution's generations and the layer's
+     * steps: a finished fit's checkpoint holds its front and evaluations */
+    if (t - x->last_checkpoint > 5 || (strcmp(p->stage, "evolve") != 0 && strcmp(p->stage, "layer") != 0)) {
         write_checkpoint(x, p);
         x->last_checkpoint = t;
     }

@@ -59,6 +59,11 @@ int main(int argc, char **argv)
         if (sigaction(fatal[i], NULL, &old) == 0 && old.sa_handler != SIG_IGN) /* nohup's stays */
             sigaction(fatal[i], &sa, NULL);
     }
+    /* a file size limit (ulimit -f) makes a write fail, which is reported, rather than kill
+     * the program; a library that exit()s on a failed write (libjpeg) still leaves no
+     * temporary file behind */
+    signal(SIGXFSZ, SIG_IGN);
+    atexit(sq_io_remove_temps);
     if (argc < 2)
         return cli_usage(NULL, "no command given");
     const char *cmd = argv[1];

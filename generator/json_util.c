@@ -112,8 +112,10 @@ static int scan_string(Scan *sc)
             sc->i++;
             continue;
         }
-        if (sc->i + 1 >= sc->n)
+        if (sc->i + 1 >= sc->n) {
+            sc->i = sc->n;
             break;
+        }
         char e = sc->s[sc->i + 1];
         if (strchr("\"\\/bfnrt", e) && e) {
             sc->i += 2;
@@ -262,8 +264,9 @@ static void line_col(const char *text, size_t off, int *line, int *col)
 {
     *line = 1;
     *col = 1;
-    for (size_t i = 0; i < off; i++) {
-        if (text[i] == '\n') {
+    const size_t bom = off >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0; /* no column of its own */
+    for (size_t i = bom; i < off; i++) {
+        if (text[i] == '\n' || (text[i] == '\r' && text[i + 1] != '\n')) { /* LF, CRLF or CR alone */
             ++*line;
             *col = 1;
         } else if (((unsigned char)text[i] & 0xC0) != 0x80) { /* a column a character */
@@ -294,22 +297,32 @@ SqStatus sq__json_parse(const char *text, size_t len, const char *name, cJSON **
     }
     size_t off;
     const char *what;
-    if (sq__json_check(text, len, &off, &what) != 0) {
-        if (off >= len) { /* the text ends early: its last byte */
-            sq__json_where(text, len - 1, name, where, sizeof where);
+    /* a UTF-8 byte order mark is not JSON, but RFC 8259 lets a reader ignore it (cJSON did) */
+    const size_t bom = len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    if (sq__json_check(text + bom, len - bom, &off, &what) != 0) {
+        off += bom;
+        if (off >= len) { /* the text ends early: its last character */
+            size_t last = len - 1;
+            while (last > 0 && ((unsigned char)text[last] & 0xC0) == 0x80)
+                last--;
+            sq__json_where(text, last, name, where, sizeof where);
             return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON at the end of the text (unfinished?): %s",
                                 what);
         }
         sq__json_where(text, off, name, where, sizeof where);
+        /* the text from there: up to 20 bytes, whole characters, no control bytes */
         int show = len - off < 20 ? (int)(len - off) : 20; /* text need not end in NUL */
         for (int k = 0; k < show; k++)
-            if (text[off + (size_t)k] == '\n' || text[off + (size_t)k] == '\r')
+            if ((unsigned char)text[off + (size_t)k] < 0x20 || text[off + (size_t)k] == 0x7F)
                 show = k;
+        if (off + (size_t)show < len)
+            while (show > 0 && ((unsigned char)text[off + (size_t)show] & 0xC0) == 0x80)
+                show--;
         if (show == 0)
             return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON: %s", what);
         return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON: %s, at \"%.*s\"", what, show, text + off);
     }
-    *root = cJSON_ParseWithLength(text, len);
+    *root = cJSON_ParseWithLength(text + bom, len - bom);
     if (!*root) /* the text is JSON: cJSON ran out of memory */
         return sq_error_set(err, SQ_ERR_NOMEM, name, "out of memory parsing JSON");
     return SQ_OK;

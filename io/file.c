@@ -53,9 +53,14 @@ void sq_io_remove_temps(void)
     for (int i = 0; i < TEMP_SLOTS; i++) /* the files, then the folders they were in */
         if (atomic_load(&temps[i].state) == 2)
             unlink(temps[i].name);
-    for (int i = 0; i < TEMP_SLOTS; i++)
-        if (atomic_load(&temps[i].state) == 2)
-            rmdir(temps[i].name);
+    for (int pass = 0; pass < 8; pass++) { /* a folder inside another goes first, whatever their slots */
+        int gone = 0;
+        for (int i = 0; i < TEMP_SLOTS; i++)
+            if (atomic_load(&temps[i].state) == 2 && rmdir(temps[i].name) == 0)
+                gone++;
+        if (!gone)
+            break;
+    }
 }
 
 void sq__io_drop_temp(const char *tmp)
@@ -90,8 +95,14 @@ SqStatus sq__io_commit(const char *tmp, const char *path, SqError *err)
 {
     int fd = open(tmp, O_RDONLY | O_CLOEXEC);
     if (fd >= 0) {
-        (void)fsync(fd); /* best effort: some file systems refuse fsync */
+        /* a file system that cannot fsync says so (EINVAL, EROFS, ENOTSUP); any other
+         * failure (EIO, ENOSPC, EDQUOT) means the data did not reach the disk */
+        int e = fsync(fd) == 0 ? 0 : errno;
         close(fd);
+        if (e && e != EINVAL && e != EROFS && e != ENOTSUP && e != EBADF) {
+            sq__io_drop_temp(tmp);
+            return sq_error_set(err, SQ_ERR_IO, path, "cannot write: %s", strerror(e));
+        }
     }
     if (rename(tmp, path) != 0) {
         int e = errno;

@@ -138,6 +138,24 @@ SqImageFormat format_from_name(const char *path)
     return SQ_FORMAT_AUTO;
 }
 
+/* 1 when the file at path ends as a whole PNG (its IEND chunk) or JPEG (its EOI marker)
+ * does: a write that ran out of disk or hit a file size limit stops short of it, and
+ * OIIO 2.4's PNG writer does not report that. */
+static bool ends_whole(const char *path, bool jpeg)
+{
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    static const unsigned char eoi[2] = {0xFF, 0xD9};
+    const unsigned char *want = jpeg ? eoi : iend;
+    const long n = jpeg ? 2 : 12;
+    unsigned char tail[12];
+    FILE *f = std::fopen(path, "rb");
+    bool ok = f && std::fseek(f, -n, SEEK_END) == 0 && std::fread(tail, 1, (size_t)n, f) == (size_t)n &&
+              std::memcmp(tail, want, (size_t)n) == 0;
+    if (f)
+        std::fclose(f);
+    return ok;
+}
+
 SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions *opt,
                      SqError *err)
 {
@@ -210,6 +228,10 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
         std::string msg = first_line(out ? out->geterror() : OIIO::geterror());
         sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: %s", msg.c_str());
+    }
+    if ((png || jpeg) && !ends_whole(tmp, jpeg)) { /* OIIO 2.4's PNG writer reports success */
+        sq__io_drop_temp(tmp);
+        return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: the file came out cut short (is the disk full?)");
     }
     return sq__io_commit(tmp, path, err);
 }

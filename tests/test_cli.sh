@@ -89,6 +89,8 @@ run fit x.jpg -o "$TMP/never" --evals; check "fit --evals without a value" 2 err
 run render x.json -o "$TMP/never" --size; check "render --size without a value" 2 err "--size needs a value"
 run fit x.jpg -o "$TMP/never" -b; check "fit -b without a value" 2 err "-b needs a value"
 run fit -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster" 2 err "unknown option '-x'"
+run fit --seed=3 -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster after a long option" 2 err "unknown option '-x'"
+run fit --json -qx x.jpg -o "$TMP/never"; check "an unknown letter ending a cluster" 2 err "unknown option '-x'"
 run fit x.jpg -o "$TMP/never" --json=1; check "a value for a flag" 2 err "--json takes no value"
 run fit x.jpg -o "$TMP/never" --s=3; check "an ambiguous prefix" 2 err "ambiguous option '--s': --seed, --size? (see 'squama fit --help')"
 run fit x.jpg -o "$TMP/never" --sed 3; check "an unknown option" 2 err "unknown option '--sed'"
@@ -115,6 +117,13 @@ run render "$SRC/presets/thesis/table_4_1_transversal.json" -o "$TMP/r/set" --si
 check "render into a set it cannot finish" 1 err "a folder is where the map goes; no map was written ($TMP/r/set/normal.png)"
 cmp -s "$TMP/r/set/basecolor.png" "$TMP/r/set_before.png" || { echo "FAIL: a failed render replaced basecolor.png"; fails=$((fails + 1)); }
 [ "$(ls -A "$TMP/r/set" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a failed render left: $(ls -A "$TMP/r/set")"; fails=$((fails + 1)); }
+# a disk that fills (here a file size limit of 8 KiB): the render fails, the old maps stay,
+# nothing temporary is left (OIIO's PNG writer reports success on a PNG cut short)
+rm -rf "$TMP/r/full" && cp -r "$TMP/r/deep" "$TMP/r/full"
+(ulimit -f 8; "$SQ" render "$SRC/presets/complex/cheetah.json" -o "$TMP/r/full" --size 256 >"$out" 2>"$err"; echo $? >"$TMP/rc")
+check "render onto a full disk" 1 err "the file came out cut short (is the disk full?) ($TMP/r/full/basecolor.png)"
+cmp -s "$TMP/r/full/basecolor.png" "$TMP/r/deep/basecolor.png" || { echo "FAIL: a render onto a full disk replaced basecolor.png"; fails=$((fails + 1)); }
+[ "$(ls -A "$TMP/r/full" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a render onto a full disk left: $(ls -A "$TMP/r/full")"; fails=$((fails + 1)); }
 run render "$TMP/complex_missing.json" -o "$TMP/r/new/deeper" --size 32
 check "render of a missing preset" 1 err "cannot open preset"
 [ -e "$TMP/r/new" ] && { echo "FAIL: a failed render left a folder"; fails=$((fails + 1)); }
@@ -466,6 +475,8 @@ for f in 00.json 01.json 02.json seeds.json sheet.png; do
   [ -s "$TMP/sd/$f" ] || { echo "FAIL: seed did not write $f"; fails=$((fails + 1)); }
 done
 ls "$TMP" | grep -q "sd.tmp-" && { echo "FAIL: seed left its temporary folder"; fails=$((fails + 1)); }
+mkdir "$TMP/sd_mode" && want=$(stat -c %a "$TMP/sd_mode") && rmdir "$TMP/sd_mode"
+[ "$(stat -c %a "$TMP/sd")" = "$want" ] || { echo "FAIL: seed's folder is mode $(stat -c %a "$TMP/sd"), not $want"; fails=$((fails + 1)); }
 run render "$TMP/sd/02.json" -o "$TMP/sd_r" --size 32; check "render a seeded preset" 0 out "longitudinal pattern"
 run seed --category longitudinal -n 3 -o "$TMP/sd1" --size 32 -j 1 -q
 check "seed on one thread" 0

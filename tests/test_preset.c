@@ -220,6 +220,17 @@ static void every_error_named_with_its_place(void **state)
          SQ_ERR_PARSE},
         {"{\"format\": \"squama-preset/1\", \"name\": \"abc", "p.json:1:42",
          "at the end of the text (unfinished?): the text ends inside a string", SQ_ERR_PARSE},
+        /* a byte order mark is skipped (and takes no column); CR alone ends a line; an
+         * unfinished string ending in a backslash, or in a character of several bytes, is
+         * named at its last character; the text quoted stops before a control byte */
+        {"\xEF\xBB\xBF{\"format\": \"squama-preset/1\",}", "p.json:1:30", "a trailing comma", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\",\r\"Seed\": 01}", "p.json:2:9", "a leading zero", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"abc\\", "p.json:1:43",
+         "at the end of the text (unfinished?): the text ends inside a string", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"name\": \"ab\xc3\xa9", "p.json:1:42",
+         "at the end of the text (unfinished?): the text ends inside a string", SQ_ERR_PARSE},
+        {"{\"format\": \"squama-preset/1\", \"Seed\": x\x1b[31m}", "p.json:1:39",
+         "expected a value (a string, a number, an object, an array, true, false or null), at \"x\"", SQ_ERR_PARSE},
         /* columns count characters, not bytes */
         {"{\"name\": \"caf\xc3\xa9\", \"format\": \"squama-preset/1\",}", "p.json:1:46", "a trailing comma",
          SQ_ERR_PARSE},
@@ -317,6 +328,9 @@ static void nul_byte_size_and_key_limits(void **state)
                      SQ_ERR_PARSE);
     assert_contains(err.what, "NUL byte");
     assert_string_equal(err.where, "p.json:1:29");
+    /* a preset saved with a byte order mark loads */
+    assert_int_equal(parse("\xEF\xBB\xBF{\"format\": \"squama-preset/1\", \"Seed\": 4}", &p, &err), SQ_OK);
+    assert_int_equal(p.Seed, 4);
 
     /* nesting: 1000 deep is JSON (not a preset), 1001 deep is refused where it passes 1000 */
     char deep[2 * 1001 + 1];
