@@ -124,6 +124,20 @@ rm -rf "$TMP/r/full" && cp -r "$TMP/r/deep" "$TMP/r/full"
 check "render onto a full disk" 1 err "the file came out cut short (is the disk full?) ($TMP/r/full/basecolor.png)"
 cmp -s "$TMP/r/full/basecolor.png" "$TMP/r/deep/basecolor.png" || { echo "FAIL: a render onto a full disk replaced basecolor.png"; fails=$((fails + 1)); }
 [ "$(ls -A "$TMP/r/full" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a render onto a full disk left: $(ls -A "$TMP/r/full")"; fails=$((fails + 1)); }
+# a map that cannot be replaced after another was (a sticky folder: another user's map):
+# the one replaced is put back. Needs root to stage it, and a user who can run squama here.
+if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null && chmod 1777 "$TMP/r" &&
+   setpriv --reuid=65534 --regid=65534 --clear-groups "$SQ" --version >/dev/null 2>&1; then
+  mkdir -m 1777 "$TMP/r/sticky" && cp "$TMP/r/deep/"*.png "$TMP/r/sticky/" && chmod 644 "$TMP/r/sticky/"*.png
+  chown 65534 "$TMP/r/sticky/basecolor.png" && cp "$TMP/r/sticky/basecolor.png" "$TMP/r/sticky_before.png"
+  setpriv --reuid=65534 --regid=65534 --clear-groups "$SQ" render "$SRC/presets/thesis/table_4_1_transversal.json" \
+    -o "$TMP/r/sticky" --size 32 >"$out" 2>"$err"; echo $? >"$TMP/rc"
+  check "render into a set it may not replace" 1 err "cannot replace the map: Operation not permitted; no map was written ($TMP/r/sticky/height.png)"
+  cmp -s "$TMP/r/sticky/basecolor.png" "$TMP/r/sticky_before.png" || { echo "FAIL: a failed render left a new basecolor.png"; fails=$((fails + 1)); }
+  [ "$(ls -A "$TMP/r/sticky" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a failed render left: $(ls -A "$TMP/r/sticky")"; fails=$((fails + 1)); }
+else
+  echo "skipped: the sticky-folder render (needs root, setpriv, and squama runnable by uid 65534)"
+fi
 run render "$TMP/complex_missing.json" -o "$TMP/r/new/deeper" --size 32
 check "render of a missing preset" 1 err "cannot open preset"
 [ -e "$TMP/r/new" ] && { echo "FAIL: a failed render left a folder"; fails=$((fails + 1)); }
