@@ -53,8 +53,10 @@ static const char help[] =
 int cli_mkdirs_new(const char *path, CliMade *made)
 {
     char buf[4096];
-    if (made)
-        made->n = 0;
+    CliMade own; /* the folders made, removed again when a deeper one cannot be made */
+    if (!made)
+        made = &own;
+    made->n = 0;
     if (!path[0] || snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
         errno = path[0] ? ENAMETOOLONG : ENOENT;
         return -1;
@@ -65,10 +67,15 @@ int cli_mkdirs_new(const char *path, CliMade *made)
         const char end = *c;
         *c = '\0';
         if (mkdir(buf, 0777) == 0) {
-            if (made && made->n < CLI_MADE_MAX)
+            if (made->n < CLI_MADE_MAX)
                 made->len[made->n++] = (int)(c - buf);
-        } else if (errno != EEXIST)
+        } else if (errno != EEXIST) {
+            const int e = errno;
+            cli_rmdirs_new(path, made);
+            made->n = 0;
+            errno = e;
             return -1;
+        }
         if (!end)
             break;
         *c = '/';

@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,9 +143,17 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
             st = sq_error_set(err, SQ_ERR_IO, path, "a folder is where the map goes; no map was written");
     }
     /* into place, each old map set aside in the staging folder until every new one is in:
-     * a rename that fails puts the old ones back */
+     * a rename that fails puts the old ones back. Ctrl-C and the like wait until that is
+     * done (microseconds): the handler would remove the new maps not yet in place while
+     * the old ones are set aside. */
     char to[NMAPS + 1][4200], old[NMAPS + 1][4200];
     int moved = 0, kept[NMAPS + 1] = {0};
+    sigset_t fatal, saved;
+    sigemptyset(&fatal);
+    sigaddset(&fatal, SIGINT);
+    sigaddset(&fatal, SIGTERM);
+    sigaddset(&fatal, SIGHUP);
+    sigprocmask(SIG_BLOCK, &fatal, &saved);
     for (int i = 0; i < n && st == SQ_OK; i++) {
         struct stat sb;
         snprintf(path, sizeof path, "%s/%.31s", stg.dir, names[i]);
@@ -177,7 +186,8 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         if (!quiet)
             printf("wrote %s\n", to[i]);
     }
-    if (st != SQ_OK && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 && err->where[strlen(stg.dir)] == '/') {
+    if (st != SQ_OK && stg.dir[0] && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 &&
+        err->where[strlen(stg.dir)] == '/') {
         char staged[64]; /* the map's own name, not the staging folder's */
         snprintf(staged, sizeof staged, "%.63s", err->where + strlen(stg.dir) + 1);
         if (cli_pathf(err->where, sizeof err->where, "%s/%s", outdir, staged) != 0)
@@ -185,6 +195,7 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
     }
     if (stg.files)
         cli_staging_free(&stg);
+    sigprocmask(SIG_SETMASK, &saved, NULL);
     for (int i = 0; i < n; i++) /* an old map that could not be put back stays, set aside */
         if (kept[i])
             fprintf(stderr, "squama: the old %s is kept as %s\n", to[i], old[i]);

@@ -315,10 +315,16 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     }
     if (st == SQ_OK) {
         /* DIR was checked new or empty; a rename over an empty folder replaces it. mkdtemp
-         * made the folder private (0700): it gets a folder's usual mode under the umask */
-        const mode_t mask = umask(0);
-        umask(mask);
-        chmod(stg.dir, 0777 & ~mask);
+         * made the folder private (0700): it gets the mode of the empty folder it replaces,
+         * or a new folder's under the umask */
+        struct stat was;
+        if (stat(outdir, &was) == 0) {
+            chmod(stg.dir, was.st_mode & 07777);
+        } else {
+            const mode_t mask = umask(0);
+            umask(mask);
+            chmod(stg.dir, 0777 & ~mask);
+        }
         if (rename(stg.dir, outdir) != 0)
             st = sq_error_set(err, SQ_ERR_IO, outdir, "cannot move the presets into place: %s", strerror(errno));
         else /* in place: nothing of it is temporary now */

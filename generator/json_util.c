@@ -299,6 +299,10 @@ SqStatus sq__json_parse(const char *text, size_t len, const char *name, cJSON **
     const char *what;
     /* a UTF-8 byte order mark is not JSON, but RFC 8259 lets a reader ignore it (cJSON did) */
     const size_t bom = len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    if (len == bom) {
+        snprintf(where, sizeof where, "%s:1:1", name);
+        return sq_error_set(err, SQ_ERR_PARSE, where, "malformed JSON: the file is empty (a byte order mark alone)");
+    }
     if (sq__json_check(text + bom, len - bom, &off, &what) != 0) {
         off += bom;
         if (off >= len) { /* the text ends early: its last character */

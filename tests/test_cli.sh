@@ -138,6 +138,25 @@ if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null && chmod 1777 "$TMP/r" &&
 else
   echo "skipped: the sticky-folder render (needs root, setpriv, and squama runnable by uid 65534)"
 fi
+# a render stopped (SIGTERM) at each of its renames, strace injecting the signal: the set
+# is wholly old or wholly new, and nothing else is left
+if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
+  "$SQ" render "$SRC/presets/scales/domed_dark_gaps.json" -o "$TMP/r/new_set" --size 64 -q
+  for when in 1 2 3 4 5 6 7 8 9 10 11 12 13 14; do
+    rm -rf "$TMP/r/k" && cp -r "$TMP/r/deep" "$TMP/r/k"
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -o /dev/null -e inject=rename:signal=SIGTERM:when=$when \
+      "$SQ" render "$SRC/presets/scales/domed_dark_gaps.json" -o "$TMP/r/k" --size 64 -q >/dev/null 2>&1
+    o=0 n=0
+    for m in basecolor height roughness normal; do
+      cmp -s "$TMP/r/k/$m.png" "$TMP/r/deep/$m.png" && o=$((o + 1))
+      cmp -s "$TMP/r/k/$m.png" "$TMP/r/new_set/$m.png" && n=$((n + 1))
+    done
+    { [ $o = 4 ] || [ $n = 4 ]; } && [ "$(ls -A "$TMP/r/k" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] ||
+      { echo "FAIL: a render stopped at rename $when left $o old and $n new maps: $(ls -A "$TMP/r/k")"; fails=$((fails + 1)); }
+  done
+else
+  echo "skipped: the interrupted render (needs strace)"
+fi
 run render "$TMP/complex_missing.json" -o "$TMP/r/new/deeper" --size 32
 check "render of a missing preset" 1 err "cannot open preset"
 [ -e "$TMP/r/new" ] && { echo "FAIL: a failed render left a folder"; fails=$((fails + 1)); }
