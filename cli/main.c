@@ -49,6 +49,16 @@ void cli_fatal_signal(int sig)
     raise(sig);
 }
 
+/* At exit: a write that a library ended the program in (libjpeg on a full disk) said in
+ * squama's words, and every temporary file removed. */
+static void at_exit(void)
+{
+    const char *w = sq_io_image_under_way();
+    if (w)
+        fprintf(stderr, "squama: cannot write image: the write failed (is the disk full?) (%s)\n", w);
+    sq_io_remove_temps();
+}
+
 int main(int argc, char **argv)
 {
     static const int fatal[] = {SIGINT, SIGTERM, SIGHUP};
@@ -63,7 +73,7 @@ int main(int argc, char **argv)
      * the program; a library that exit()s on a failed write (libjpeg) still leaves no
      * temporary file behind */
     signal(SIGXFSZ, SIG_IGN);
-    atexit(sq_io_remove_temps);
+    atexit(at_exit);
     if (argc < 2)
         return cli_usage(NULL, "no command given");
     const char *cmd = argv[1];

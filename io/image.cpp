@@ -6,6 +6,7 @@
 #include <OpenImageIO/strutil.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
@@ -138,6 +139,9 @@ SqImageFormat format_from_name(const char *path)
     return SQ_FORMAT_AUTO;
 }
 
+/* the image being written when libjpeg exits the program (sq_io_image_under_way) */
+static std::atomic<const char *> under_way{nullptr};
+
 /* 1 when the file at path ends as a whole PNG (its IEND chunk) or JPEG (its EOI marker)
  * does: a write that ran out of disk or hit a file size limit stops short of it, and
  * OIIO 2.4's PNG writer does not report that. */
@@ -223,8 +227,10 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
         return sq_error_set(err, SQ_ERR_IO, path, "cannot create a file here: %s",
                             std::strerror(errno));
     auto out = ImageOutput::create(jpeg ? "jpeg" : png ? "png" : "openexr");
+    under_way.store(path);
     bool ok = out && out->open(tmp, spec) &&
               out->write_image(TypeDesc::FLOAT, px.data()) && out->close();
+    under_way.store(nullptr);
     if (!ok) {
         std::string msg = first_line(out ? out->geterror() : OIIO::geterror());
         sq__io_drop_temp(tmp);
@@ -305,6 +311,11 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
     } catch (const std::exception &e) {
         return sq_error_set(err, SQ_ERR_INTERNAL, "text", "cannot draw text: %s", e.what());
     }
+}
+
+extern "C" const char *sq_io_image_under_way(void)
+{
+    return under_way.load();
 }
 
 extern "C" SqStatus sq_io_write_image(const char *path, const SqImage *img,

@@ -157,6 +157,13 @@ if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
 else
   echo "skipped: the interrupted render (needs strace)"
 fi
+# a JPEG onto a full disk: libjpeg ends the program itself; squama still says so in its own
+# words and leaves nothing (leaks not checked: the program is ended mid-write)
+mkdir -p "$TMP/fulljpg"
+(ulimit -f 8; ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" "$SQ" photo "$SRC/presets/complex/cheetah.json" \
+   -o "$TMP/fulljpg/ph.jpg" >"$out" 2>"$err"; echo $? >"$TMP/rc")
+check "photo onto a full disk" 1 err "squama: cannot write image: the write failed (is the disk full?) ($TMP/fulljpg/ph.jpg)"
+[ -z "$(ls -A "$TMP/fulljpg")" ] || { echo "FAIL: a photo onto a full disk left: $(ls -A "$TMP/fulljpg")"; fails=$((fails + 1)); }
 run render "$TMP/complex_missing.json" -o "$TMP/r/new/deeper" --size 32
 check "render of a missing preset" 1 err "cannot open preset"
 [ -e "$TMP/r/new" ] && { echo "FAIL: a failed render left a folder"; fails=$((fails + 1)); }

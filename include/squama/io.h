@@ -69,6 +69,10 @@ void sq_io_remove_temps(void);
 void sq_io_temp_add(const char *path);
 void sq_io_temp_forget(const char *path);
 
+/* The image a write of this process had under way, or NULL: for a program's exit handler,
+ * since libjpeg ends the program (exit) when a write fails, without returning an error. */
+const char *sq_io_image_under_way(void);
+
 /* Writes len bytes atomically (temporary file, fsync, rename). */
 SqStatus sq_io_write_file(const char *path, const void *data, size_t len, SqError *err);
 
