@@ -6,6 +6,7 @@
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -142,6 +143,67 @@ void cli_staging_free(CliStaging *s)
     cli_staging_release(s, 1);
     free(s->files);
     s->files = NULL;
+}
+
+/* the paths of s's file i: staged (from), set aside (old) and in place (to); 4200 bytes each */
+static void staged_paths(const CliStaging *s, const char *outdir, int i, char *from, char *old, char *to)
+{
+    snprintf(from, 4200, "%s/%s", s->dir, s->files[i]);
+    snprintf(old, 4200, "%s/old-%s", s->dir, s->files[i]);
+    snprintf(to, 4200, "%s/%s", outdir, s->files[i]);
+}
+
+SqStatus cli_staging_commit(CliStaging *s, const char *outdir, int quiet, SqError *err)
+{
+    char *kept = calloc(s->nfiles > 0 ? (size_t)s->nfiles : 1, 1);
+    if (!kept)
+        return sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+    char from[4200], old[4200], to[4200];
+    sigset_t fatal, saved;
+    sigemptyset(&fatal);
+    sigaddset(&fatal, SIGINT);
+    sigaddset(&fatal, SIGTERM);
+    sigaddset(&fatal, SIGHUP);
+    sigprocmask(SIG_BLOCK, &fatal, &saved);
+    SqStatus st = SQ_OK;
+    int moved = 0;
+    for (int i = 0; i < s->nfiles && st == SQ_OK; i++) {
+        struct stat sb;
+        staged_paths(s, outdir, i, from, old, to);
+        const int exists = lstat(to, &sb) == 0;
+        if (stat(to, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+            st = sq_error_set(err, SQ_ERR_IO, to, "a folder is where the map goes; no map was written");
+        } else if (exists && rename(to, old) != 0) {
+            st = sq_error_set(err, SQ_ERR_IO, to, "cannot replace the map: %s; no map was written", strerror(errno));
+        } else if (rename(from, to) != 0) {
+            st = sq_error_set(err, SQ_ERR_IO, to, "cannot move the map into place: %s; no map was written",
+                              strerror(errno));
+            kept[i] = exists && rename(old, to) != 0;
+        } else {
+            kept[i] = (char)exists;
+            moved = i + 1;
+        }
+    }
+    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--) { /* the old set back */
+        staged_paths(s, outdir, i, from, old, to);
+        if (kept[i] ? rename(old, to) == 0 : unlink(to) == 0)
+            kept[i] = 0;
+    }
+    for (int i = 0; i < s->nfiles; i++) {
+        staged_paths(s, outdir, i, from, old, to);
+        if (st == SQ_OK && i < moved) {
+            if (kept[i])
+                unlink(old);
+            if (!quiet)
+                printf("wrote %s\n", to);
+        } else if (st != SQ_OK && kept[i]) { /* could not be put back: stays, set aside */
+            fprintf(stderr, "squama: the old %s is kept as %s\n", to, old);
+        }
+    }
+    cli_staging_release(s, 1);
+    sigprocmask(SIG_SETMASK, &saved, NULL);
+    free(kept);
+    return st;
 }
 
 /* path with its folder resolved (realpath), in out (n bytes); 0, or -1 when the folder

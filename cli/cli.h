@@ -63,6 +63,12 @@ void cli_staging_path(CliStaging *s, const char *name, char *path, size_t n);
 void cli_staging_release(CliStaging *s, int remove);
 /* cli_staging_release(s, 1), and s's memory freed */
 void cli_staging_free(CliStaging *s);
+/* Every file of s moved into outdir under its name, as a set: each old file there set aside
+ * in s until every new one is in, and put back when a move fails (a folder where a file
+ * goes stops it too); SIGINT, SIGTERM and SIGHUP wait meanwhile, as their handler would
+ * remove the new files still in s. "wrote PATH" for each unless quiet. An old file that
+ * cannot be put back stays in s's folder, and is named on stderr. */
+SqStatus cli_staging_commit(CliStaging *s, const char *outdir, int quiet, SqError *err);
 
 /* 1 when a and b name the same file: the same inode if both exist, else the same path
  * once their folders are resolved. */

@@ -3,13 +3,11 @@
 
 #include <errno.h>
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "sheet.h"
@@ -92,9 +90,9 @@ static int render_sheet(const char *out, char **files, int n, int size, int cols
     return rc;
 }
 
-/* The maps (and the preview) into a temporary folder inside outdir, then each renamed into
- * place: a failure or an interruption while they are written leaves the maps that were there
- * before, not some new and some old. A folder the command made is removed on failure. */
+/* The maps (and the preview) into a temporary folder inside outdir, then moved into place
+ * as a set (cli_staging_commit): a failure or an interruption leaves the maps that were
+ * there before, not some new and some old. A folder the command made is removed on failure. */
 static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextures *tex, SqGenOptions go,
                            const char *ext, int bits, int preview, int quiet, SqError *err)
 {
@@ -107,14 +105,13 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         {"basecolor", &tex->basecolor, 8}, {"height", &tex->height, 16},
         {"roughness", &tex->roughness, 8}, {"normal", &tex->normal, 8}};
     enum { NMAPS = sizeof maps / sizeof maps[0] };
-    char names[NMAPS + 1][32], pattern[4200], path[4200];
+    char name[32], pattern[4200], path[4200];
     snprintf(pattern, sizeof pattern, "%s/.render.tmp-XXXXXX", outdir);
     CliStaging stg;
     SqStatus st = cli_staging_open(&stg, pattern, NMAPS + 1, err);
-    int n = 0;
-    for (int i = 0; i < NMAPS && st == SQ_OK; i++, n++) {
-        snprintf(names[i], sizeof names[i], "%s.%s", maps[i].name, ext);
-        cli_staging_path(&stg, names[i], path, sizeof path);
+    for (int i = 0; i < NMAPS && st == SQ_OK; i++) {
+        snprintf(name, sizeof name, "%s.%s", maps[i].name, ext);
+        cli_staging_path(&stg, name, path, sizeof path);
         SqWriteOptions wo = {.format = png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
                              .bits = bits ? bits : (png ? maps[i].bits : 16)};
         st = sq_io_write_image(path, maps[i].img, &wo, err);
@@ -127,8 +124,7 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         po.view_scale = 1.5;
         po.texture_size = go.width < 1024 ? go.width : 1024;
         SqImage photo, mask;
-        snprintf(names[n], sizeof names[n], "preview.png");
-        cli_staging_path(&stg, names[n++], path, sizeof path);
+        cli_staging_path(&stg, "preview.png", path, sizeof path);
         st = sq_fit_synth_photo(p, &po, &photo, &mask, NULL, err);
         if (st == SQ_OK) {
             st = sq_io_write_image(path, &photo, NULL, err);
@@ -136,58 +132,9 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
             sq_image_free(&mask);
         }
     }
-    for (int i = 0; i < n && st == SQ_OK; i++) { /* all written: a folder in a map's place stops all */
-        struct stat sb;
-        snprintf(path, sizeof path, "%s/%.31s", outdir, names[i]);
-        if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
-            st = sq_error_set(err, SQ_ERR_IO, path, "a folder is where the map goes; no map was written");
-    }
-    /* into place, each old map set aside in the staging folder until every new one is in:
-     * a rename that fails puts the old ones back. Ctrl-C and the like wait until that is
-     * done (microseconds): the handler would remove the new maps not yet in place while
-     * the old ones are set aside. */
-    char to[NMAPS + 1][4200], old[NMAPS + 1][4200];
-    int moved = 0, kept[NMAPS + 1] = {0};
-    sigset_t fatal, saved;
-    sigemptyset(&fatal);
-    sigaddset(&fatal, SIGINT);
-    sigaddset(&fatal, SIGTERM);
-    sigaddset(&fatal, SIGHUP);
-    sigprocmask(SIG_BLOCK, &fatal, &saved);
-    for (int i = 0; i < n && st == SQ_OK; i++) {
-        struct stat sb;
-        snprintf(path, sizeof path, "%s/%.31s", stg.dir, names[i]);
-        snprintf(old[i], sizeof old[i], "%s/old-%.31s", stg.dir, names[i]);
-        snprintf(to[i], sizeof to[i], "%s/%.31s", outdir, names[i]);
-        if (lstat(to[i], &sb) == 0) {
-            if (rename(to[i], old[i]) != 0) {
-                st = sq_error_set(err, SQ_ERR_IO, to[i], "cannot replace the map: %s; no map was written",
-                                  strerror(errno));
-                break;
-            }
-            kept[i] = 1;
-        }
-        if (rename(path, to[i]) != 0) {
-            st = sq_error_set(err, SQ_ERR_IO, to[i], "cannot move the map into place: %s; no map was written",
-                              strerror(errno));
-            if (kept[i] && rename(old[i], to[i]) == 0)
-                kept[i] = 0;
-            break;
-        }
-        moved = i + 1;
-    }
-    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--) /* the old set back */
-        if (kept[i] ? rename(old[i], to[i]) == 0 : unlink(to[i]) == 0)
-            kept[i] = 0;
-    for (int i = 0; i < moved && st == SQ_OK; i++) {
-        if (kept[i])
-            unlink(old[i]);
-        kept[i] = 0;
-        if (!quiet)
-            printf("wrote %s\n", to[i]);
-    }
-    if (st != SQ_OK && stg.dir[0] && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 &&
-        err->where[strlen(stg.dir)] == '/') {
+    if (st == SQ_OK) /* all written: into place as a set */
+        st = cli_staging_commit(&stg, outdir, quiet, err);
+    else if (stg.dir[0] && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 && err->where[strlen(stg.dir)] == '/') {
         char staged[64]; /* the map's own name, not the staging folder's */
         snprintf(staged, sizeof staged, "%.63s", err->where + strlen(stg.dir) + 1);
         if (cli_pathf(err->where, sizeof err->where, "%s/%s", outdir, staged) != 0)
@@ -195,10 +142,6 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
     }
     if (stg.files)
         cli_staging_free(&stg);
-    sigprocmask(SIG_SETMASK, &saved, NULL);
-    for (int i = 0; i < n; i++) /* an old map that could not be put back stays, set aside */
-        if (kept[i])
-            fprintf(stderr, "squama: the old %s is kept as %s\n", to[i], old[i]);
     if (st != SQ_OK)
         cli_rmdirs_new(outdir, &made);
     cli_made_forget(outdir, &made);
