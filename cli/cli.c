@@ -7,6 +7,7 @@
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,42 +94,131 @@ int cli_bad_option(const char *cmd, char *const argv[], int c, const struct opti
     return cli_usage(cmd, "unknown option '%.*s'", len, word);
 }
 
-SqStatus cli_staging_open(CliStaging *s, const char *pattern, int cap, SqError *err)
+/* The staging open now (one at a time), for cli_staging_shown; and the signal a commit
+ * holds back (cli_signal_waits). */
+static const CliStaging *open_staging;
+static _Atomic int committing, held_signal;
+
+SqStatus cli_staging_open(CliStaging *s, const char *pattern, const char *outdir, int cap, SqError *err)
 {
     memset(s, 0, sizeof *s);
-    s->files = calloc(cap > 0 ? (size_t)cap : 1, sizeof *s->files);
+    s->cap = cap > 0 ? cap : 8;
+    s->files = calloc((size_t)s->cap, sizeof *s->files);
     if (!s->files)
         return sq_error_set(err, SQ_ERR_NOMEM, pattern, "out of memory");
-    s->cap = cap;
+    snprintf(s->outdir, sizeof s->outdir, "%s", outdir);
     snprintf(s->dir, sizeof s->dir, "%s", pattern);
     if (!mkdtemp(s->dir)) {
-        SqStatus st = sq_error_set(err, SQ_ERR_IO, pattern, "cannot create a temporary folder: %s", strerror(errno));
+        const int e = errno;
+        char where[4096]; /* the folder it was to be made in, not the pattern */
+        const char *slash = strrchr(pattern, '/');
+        snprintf(where, sizeof where, "%.*s", slash ? (int)(slash - pattern) : 1, slash ? pattern : ".");
+        SqStatus st = sq_error_set(err, SQ_ERR_IO, where, "cannot create a temporary folder in it: %s", strerror(e));
         s->dir[0] = 0;
         cli_staging_free(s);
         return st;
     }
     sq_io_temp_add(s->dir);
+    open_staging = s;
     return SQ_OK;
 }
 
-void cli_staging_path(CliStaging *s, const char *name, char *path, size_t n)
+/* s's entry for name, NULL when there is none */
+static CliStaged *staged_find(CliStaging *s, const char *name, size_t len)
 {
-    snprintf(path, n, "%s/%s", s->dir, name);
-    if (s->nfiles < s->cap) {
-        snprintf(s->files[s->nfiles++], sizeof s->files[0], "%s", name);
+    for (int i = 0; i < s->nfiles; i++)
+        if (strlen(s->files[i].name) == len && strncmp(s->files[i].name, name, len) == 0)
+            return &s->files[i];
+    return NULL;
+}
+
+/* a new entry for the first len bytes of name, or NULL with err set */
+static CliStaged *staged_add(CliStaging *s, const char *name, size_t len, SqError *err)
+{
+    const char *what = s->what ? s->what : "output";
+    if (len == 0 || len >= sizeof s->files[0].name || name[0] == '/' || name[len - 1] == '/' || strstr(name, "//") ||
+        strcmp(name, ".") == 0 || strncmp(name, "./", 2) == 0 || strstr(name, "/.") || strncmp(name, "..", 2) == 0) {
+        sq_error_set(err, SQ_ERR_INVALID, name, "not a name for a %s in the output folder", what);
+        return NULL;
+    }
+    if (staged_find(s, name, len)) {
+        sq_error_set(err, SQ_ERR_INVALID, name, "this %s is written twice", what);
+        return NULL;
+    }
+    if (s->nfiles == s->cap) {
+        CliStaged *more = realloc(s->files, sizeof *more * (size_t)s->cap * 2);
+        if (!more) {
+            sq_error_set(err, SQ_ERR_NOMEM, name, "out of memory");
+            return NULL;
+        }
+        s->files = more;
+        s->cap *= 2;
+    }
+    CliStaged *f = &s->files[s->nfiles++];
+    memset(f, 0, sizeof *f);
+    memcpy(f->name, name, len);
+    return f;
+}
+
+SqStatus cli_staging_path(CliStaging *s, const char *name, char *path, size_t n, SqError *err)
+{
+    for (const char *sl = strchr(name, '/'); sl; sl = strchr(sl + 1, '/')) { /* its folders first */
+        const size_t len = (size_t)(sl - name);
+        if (staged_find(s, name, len))
+            continue;
+        CliStaged *f = staged_add(s, name, len, err);
+        if (!f)
+            return err->status;
+        f->folder = 1;
+        snprintf(path, n, "%s/%s", s->dir, f->name);
+        if (mkdir(path, 0777) != 0) {
+            s->nfiles--;
+            return sq_error_set(err, SQ_ERR_IO, path, "cannot create the folder: %s", strerror(errno));
+        }
         sq_io_temp_add(path);
     }
+    CliStaged *f = staged_add(s, name, strlen(name), err);
+    if (!f)
+        return err->status;
+    if (cli_pathf(path, n, "%s/%s", s->dir, name) != 0) {
+        s->nfiles--;
+        return sq_error_set(err, SQ_ERR_INVALID, s->dir, "the output folder's name is too long");
+    }
+    sq_io_temp_add(path);
+    return SQ_OK;
+}
+
+SqStatus cli_staging_drop(CliStaging *s, const char *name, SqError *err)
+{
+    CliStaged *f = staged_find(s, name, strlen(name));
+    if (f && !f->folder && !f->drop) { /* named for the set already: what was written goes */
+        char path[4200];
+        snprintf(path, sizeof path, "%s/%s", s->dir, f->name);
+        unlink(path);
+        sq_io_temp_forget(path);
+        f->drop = 1;
+        return SQ_OK;
+    }
+    f = staged_add(s, name, strlen(name), err);
+    if (!f)
+        return err->status;
+    f->drop = 1;
+    return SQ_OK;
 }
 
 void cli_staging_release(CliStaging *s, int remove)
 {
     char path[4200];
-    for (int i = 0; i < s->nfiles; i++) {
-        snprintf(path, sizeof path, "%s/%s", s->dir, s->files[i]);
-        if (remove)
-            unlink(path);
-        sq_io_temp_forget(path);
-    }
+    for (int pass = 0; pass < 2; pass++) /* the files, then their folders, the deepest first */
+        for (int i = pass ? s->nfiles - 1 : 0; pass ? i >= 0 : i < s->nfiles; i += pass ? -1 : 1) {
+            const CliStaged *f = &s->files[i];
+            if (f->drop || f->folder != pass)
+                continue;
+            snprintf(path, sizeof path, "%s/%s", s->dir, f->name);
+            if (remove)
+                pass ? rmdir(path) : unlink(path);
+            sq_io_temp_forget(path);
+        }
     if (s->dir[0]) {
         if (remove)
             rmdir(s->dir);
@@ -136,6 +226,8 @@ void cli_staging_release(CliStaging *s, int remove)
     }
     s->nfiles = 0;
     s->dir[0] = 0;
+    if (open_staging == s)
+        open_staging = NULL;
 }
 
 void cli_staging_free(CliStaging *s)
@@ -145,65 +237,153 @@ void cli_staging_free(CliStaging *s)
     s->files = NULL;
 }
 
-/* the paths of s's file i: staged (from), set aside (old) and in place (to); 4200 bytes each */
-static void staged_paths(const CliStaging *s, const char *outdir, int i, char *from, char *old, char *to)
+/* the paths of s's entry i: staged (from), set aside (old, its folders flattened) and in
+ * place (to); 4200 bytes each */
+static void staged_paths(const CliStaging *s, int i, char *from, char *old, char *to)
 {
-    snprintf(from, 4200, "%s/%s", s->dir, s->files[i]);
-    snprintf(old, 4200, "%s/old-%s", s->dir, s->files[i]);
-    snprintf(to, 4200, "%s/%s", outdir, s->files[i]);
+    snprintf(from, 4200, "%s/%s", s->dir, s->files[i].name);
+    snprintf(old, 4200, "%s/old-%s", s->dir, s->files[i].name);
+    for (char *c = old + strlen(s->dir) + 1; *c; c++)
+        if (*c == '/')
+            *c = '_';
+    snprintf(to, 4200, "%s/%s", s->outdir, s->files[i].name);
 }
 
-SqStatus cli_staging_commit(CliStaging *s, const char *outdir, int quiet, SqError *err)
+int cli_signal_waits(int sig)
 {
-    char *kept = calloc(s->nfiles > 0 ? (size_t)s->nfiles : 1, 1);
+    if (!atomic_load(&committing))
+        return 0;
+    atomic_store(&held_signal, sig);
+    /* a commit that ended meanwhile may have looked already: the signal goes on here */
+    return atomic_load(&committing);
+}
+
+/* err for a rename of from to to that failed with errno e: what, and what it means */
+static SqStatus rename_error(SqError *err, const char *to, const char *doing, const char *what, int e)
+{
+    if (e == EXDEV)
+        return sq_error_set(err, SQ_ERR_IO, to,
+                            "cannot %s: its folder is on another file system than the output folder (a link?), "
+                            "and the outputs move in as a set by renaming; no %s was written",
+                            doing, what);
+    return sq_error_set(err, SQ_ERR_IO, to, "cannot %s: %s; no %s was written", doing, strerror(e), what);
+}
+
+SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
+{
+    const char *what = s->what ? s->what : "output";
+    char *kept = calloc(s->nfiles > 0 ? (size_t)s->nfiles : 1, 1); /* set aside; for a folder, made */
     if (!kept)
-        return sq_error_set(err, SQ_ERR_NOMEM, outdir, "out of memory");
+        return sq_error_set(err, SQ_ERR_NOMEM, s->outdir, "out of memory");
     char from[4200], old[4200], to[4200];
     sigset_t fatal, saved;
     sigemptyset(&fatal);
     sigaddset(&fatal, SIGINT);
     sigaddset(&fatal, SIGTERM);
     sigaddset(&fatal, SIGHUP);
-    sigprocmask(SIG_BLOCK, &fatal, &saved);
+    sigprocmask(SIG_BLOCK, &fatal, &saved); /* this thread's; the others' wait in the handler */
+    atomic_store(&committing, 1);
     SqStatus st = SQ_OK;
     int moved = 0;
     for (int i = 0; i < s->nfiles && st == SQ_OK; i++) {
+        const CliStaged *f = &s->files[i];
         struct stat sb;
-        staged_paths(s, outdir, i, from, old, to);
-        const int exists = lstat(to, &sb) == 0;
-        if (stat(to, &sb) == 0 && S_ISDIR(sb.st_mode)) {
-            st = sq_error_set(err, SQ_ERR_IO, to, "a folder is where the map goes; no map was written");
+        staged_paths(s, i, from, old, to);
+        const int exists = lstat(to, &sb) == 0, folder = stat(to, &sb) == 0 && S_ISDIR(sb.st_mode);
+        if (f->folder) {
+            if (exists && !folder)
+                st = sq_error_set(err, SQ_ERR_IO, to, "not a folder; no %s was written", what);
+            else if (!exists && mkdir(to, 0777) != 0)
+                st = sq_error_set(err, SQ_ERR_IO, to, "cannot create the folder: %s; no %s was written",
+                                  strerror(errno), what);
+            else
+                kept[i] = (char)!exists;
+        } else if (f->drop) { /* set aside; a folder there is not an earlier output */
+            char doing[64];
+            snprintf(doing, sizeof doing, "remove the earlier %s", what);
+            if (exists && !folder && rename(to, old) != 0)
+                st = rename_error(err, to, doing, what, errno);
+            else
+                kept[i] = (char)(exists && !folder);
+        } else if (folder) {
+            st = sq_error_set(err, SQ_ERR_IO, to, "a folder is where the %s goes; no %s was written", what, what);
         } else if (exists && rename(to, old) != 0) {
-            st = sq_error_set(err, SQ_ERR_IO, to, "cannot replace the map: %s; no map was written", strerror(errno));
+            char doing[64];
+            snprintf(doing, sizeof doing, "replace the %s", what);
+            st = rename_error(err, to, doing, what, errno);
         } else if (rename(from, to) != 0) {
-            st = sq_error_set(err, SQ_ERR_IO, to, "cannot move the map into place: %s; no map was written",
-                              strerror(errno));
+            char doing[64];
+            snprintf(doing, sizeof doing, "move the %s into place", what);
+            st = rename_error(err, to, doing, what, errno);
             kept[i] = exists && rename(old, to) != 0;
         } else {
             kept[i] = (char)exists;
-            moved = i + 1;
         }
+        if (st == SQ_OK)
+            moved = i + 1;
     }
-    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--) { /* the old set back */
-        staged_paths(s, outdir, i, from, old, to);
-        if (kept[i] ? rename(old, to) == 0 : unlink(to) == 0)
+    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--) { /* the old set back, the folders made last */
+        const CliStaged *f = &s->files[i];
+        staged_paths(s, i, from, old, to);
+        if (f->folder)
+            continue;
+        if (kept[i] ? rename(old, to) == 0 : f->drop || unlink(to) == 0)
             kept[i] = 0;
     }
+    for (int i = moved - 1; i >= 0 && st != SQ_OK; i--)
+        if (s->files[i].folder && kept[i]) {
+            staged_paths(s, i, from, old, to);
+            rmdir(to);
+        }
     for (int i = 0; i < s->nfiles; i++) {
-        staged_paths(s, outdir, i, from, old, to);
+        const CliStaged *f = &s->files[i];
+        if (f->folder)
+            continue;
+        staged_paths(s, i, from, old, to);
         if (st == SQ_OK && i < moved) {
             if (kept[i])
                 unlink(old);
-            if (!quiet)
+            if (!quiet && !f->drop)
                 printf("wrote %s\n", to);
         } else if (st != SQ_OK && kept[i]) { /* could not be put back: stays, set aside */
             fprintf(stderr, "squama: the old %s is kept as %s\n", to, old);
         }
     }
     cli_staging_release(s, 1);
+    atomic_store(&committing, 0);
+    const int held = atomic_exchange(&held_signal, 0);
     sigprocmask(SIG_SETMASK, &saved, NULL);
     free(kept);
+    if (held) /* from another thread: it ends the program now, as it would have */
+        raise(held);
     return st;
+}
+
+/* path as the file in s's outdir it is to become, in buf (n bytes); NULL when it is not in s */
+static const char *shown_as(const CliStaging *s, const char *path, char *buf, size_t n)
+{
+    const size_t k = strlen(s->dir);
+    if (!s->dir[0] || strncmp(path, s->dir, k) != 0 || path[k] != '/')
+        return NULL;
+    char staged[64]; /* the file's own name, not the staging folder's */
+    snprintf(staged, sizeof staged, "%.63s", path + k + 1);
+    if (cli_pathf(buf, n, "%s/%s", s->outdir, staged) != 0)
+        snprintf(buf, n, "%s", staged);
+    return buf;
+}
+
+void cli_staging_where(const CliStaging *s, SqError *err)
+{
+    char buf[sizeof err->where];
+    if (shown_as(s, err->where, buf, sizeof buf))
+        snprintf(err->where, sizeof err->where, "%s", buf);
+}
+
+const char *cli_staging_shown(const char *path, char *buf, size_t n)
+{
+    const CliStaging *s = open_staging;
+    const char *shown = s ? shown_as(s, path, buf, n) : NULL;
+    return shown ? shown : path;
 }
 
 /* path with its folder resolved (realpath), in out (n bytes); 0, or -1 when the folder

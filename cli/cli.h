@@ -48,27 +48,49 @@ void cli_made_forget(const char *path, const CliMade *made);
 /* A temporary folder that outputs are written into first, then renamed into place, so
  * that a failure or an interruption leaves either the new outputs or the old ones. The
  * folder and each file named in it are registered with the io module's temporary files,
- * which an interrupted run removes (cli_fatal_signal). */
+ * which an interrupted run removes (cli_fatal_signal). A file's name may hold folders
+ * ("front/00.json"), made in the staging folder as it is named and in the output folder
+ * as the set moves in. */
+typedef struct CliStaged {
+    char name[64];
+    char drop;   /* an old file that goes with the set (cli_staging_drop) */
+    char folder; /* a folder made in the staging folder for the files below it */
+} CliStaged;
 typedef struct CliStaging {
     char dir[4096];
+    char outdir[4096]; /* where the files go */
+    const char *what; /* what a file is called in errors ("map"); "output" when NULL */
     int nfiles, cap;
-    char (*files)[32];
+    CliStaged *files;
 } CliStaging;
-/* mkdtemp(pattern), pattern ending in XXXXXX, with room for cap file names */
-SqStatus cli_staging_open(CliStaging *s, const char *pattern, int cap, SqError *err);
-/* s's next file name (under 32 bytes), its path in path (n bytes), registered */
-void cli_staging_path(CliStaging *s, const char *name, char *path, size_t n);
+/* mkdtemp(pattern), pattern ending in XXXXXX, for files that go into outdir, with room for
+ * cap names at first */
+SqStatus cli_staging_open(CliStaging *s, const char *pattern, const char *outdir, int cap, SqError *err);
+/* s's next file name (under 64 bytes, no "." or ".." in it), its path in path (n bytes),
+ * registered; its folders made in s */
+SqStatus cli_staging_path(CliStaging *s, const char *name, char *path, size_t n, SqError *err);
+/* outdir's file name removed with the set (put back when the set does not go in): the
+ * output of an earlier run that this one has none of. A name staged already is unwritten. */
+SqStatus cli_staging_drop(CliStaging *s, const char *name, SqError *err);
 /* s's files and folder no longer temporary; removed first when remove is set (a file
  * already renamed away is not there to remove) */
 void cli_staging_release(CliStaging *s, int remove);
 /* cli_staging_release(s, 1), and s's memory freed */
 void cli_staging_free(CliStaging *s);
-/* Every file of s moved into outdir under its name, as a set: each old file there set aside
- * in s until every new one is in, and put back when a move fails (a folder where a file
- * goes stops it too); SIGINT, SIGTERM and SIGHUP wait meanwhile, as their handler would
- * remove the new files still in s. "wrote PATH" for each unless quiet. An old file that
- * cannot be put back stays in s's folder, and is named on stderr. */
-SqStatus cli_staging_commit(CliStaging *s, const char *outdir, int quiet, SqError *err);
+/* Every file of s moved into its outdir under its name, as a set: each old file there set
+ * aside in s until every new one is in, and put back when a move fails (a folder where a
+ * file goes stops it too); SIGINT, SIGTERM and SIGHUP wait meanwhile (cli_signal_waits),
+ * as their handler would remove the new files still in s. "wrote PATH" for each unless
+ * quiet. An old file that cannot be put back stays in s's folder, and is named on stderr. */
+SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err);
+/* err's place, when it is a file in s, named as the file in outdir it was to become */
+void cli_staging_where(const CliStaging *s, SqError *err);
+/* path, when it is a file in the staging open now, as the file it is to become, in buf (n
+ * bytes); else path itself */
+const char *cli_staging_shown(const char *path, char *buf, size_t n);
+/* For the fatal signals' handler, on any thread: 1 when sig must wait, a staging's files
+ * being moved into place (the commit raises it again when they are in); 0 to go on. */
+int cli_signal_waits(int sig);
 
 /* 1 when a and b name the same file: the same inode if both exist, else the same path
  * once their folders are resolved. */
@@ -106,7 +128,7 @@ void cli_photo_free(CliPhoto *in);
 
 /* dir/mask.png: prep's mask at in's photo size (to correct and pass back with --mask);
  * left as it is when it is the mask given (mask_path). */
-SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
+SqStatus cli_write_full_mask(CliStaging *s, const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
                              SqError *err);
 
 /* sq_fit_prepare with what in holds (o NULL: the defaults). */
@@ -125,7 +147,7 @@ int cli_short_strip(const SqPrepared *prep, int line_given, char *buf, size_t n)
  * there that is not it is removed, as it is not the line followed), and line.png: the prepared photo with a grid in the photo's own pixels
  * (labelled), each stretch followed (its centre line in red, its edges dotted in cyan) and
  * the line's points (given's, or line.json's) numbered within their stretch. */
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, const char *given_path,
+SqStatus cli_write_line(CliStaging *s, const char *dir, const SqPrepared *prep, const SqBodyLine *given, const char *given_path,
                         SqError *err);
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };

@@ -46,6 +46,8 @@ static const char help[] =
     "  line.png         that line over the photo, its points numbered, on a grid of photo pixels\n"
     "  report.html      all of it side by side, with convergence and Pareto-front plots\n"
     "  checkpoint/      the front so far, for --resume\n"
+    "All but checkpoint/ are written as a set once the search is done: a fit that fails or\n"
+    "is stopped while writing them leaves an earlier fit's outputs in DIR as they were.\n"
     "\n"
     "options:\n"
     "  -m, --mask MASK      the snake's mask (white on the snake, the photo's size);\n"

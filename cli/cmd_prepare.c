@@ -34,8 +34,9 @@ static const char help[] =
     "pass it back with --line; not with --line), DIR/line.png (that line over the photo, its\n"
     "points numbered, with a grid in the photo's pixels to read them off), DIR/strip.png,\n"
     "DIR/prepared.json (body width, length,\n"
-    "stretches, mask source, the light's direction in the photo) and, with --debug,\n"
-    "every step as an image in DIR/debug/.\n"
+    "stretches, mask source, the light's direction in the photo), all of them as a set (a\n"
+    "run that fails leaves an earlier run's as they were), and, with --debug, every step\n"
+    "as an image in DIR/debug/.\n"
     "\n"
     "The body line's form (x right, y down, from the photo's top-left corner):\n"
     "  {\"format\": \"squama-body-line/1\", \"width\": 58,\n"
@@ -113,18 +114,21 @@ void cli_rmdirs_new(const char *path, const CliMade *made)
             return;
 }
 
-SqStatus cli_write_full_mask(const char *dir, const SqPrepared *prep, const CliPhoto *in, const char *mask_path,
-                             SqError *err)
+SqStatus cli_write_full_mask(CliStaging *s, const char *dir, const SqPrepared *prep, const CliPhoto *in,
+                             const char *mask_path, SqError *err)
 {
-    char path[4096];
+    char path[4200];
     if (cli_pathf(path, sizeof path, "%s/mask.png", dir) != 0)
         return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
     if (mask_path && cli_same_file(mask_path, path))
         return SQ_OK; /* the mask given is this one: kept as it is */
+    SqStatus st = cli_staging_path(s, "mask.png", path, sizeof path, err);
+    if (st != SQ_OK)
+        return st;
     SqImage full;
     if (cli_thumb_nearest(&prep->mask, in->photo.width, in->photo.height, &full) != 0)
         return sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory for the mask");
-    SqStatus st = sq_io_write_image(path, &full, NULL, err);
+    st = sq_io_write_image(path, &full, NULL, err);
     sq_image_free(&full);
     return st;
 }
@@ -253,6 +257,11 @@ int cmd_prepare(int argc, char **argv)
         sq_error_set(&err, SQ_ERR_IO, outdir, "cannot create the folder: %s", strerror(errno));
         return cli_fail(&err);
     }
+    if (access(outdir, W_OK) != 0) { /* found now, not after the preparation */
+        sq_error_set(&err, SQ_ERR_IO, outdir, "cannot write into the output folder: %s", strerror(errno));
+        cli_rmdirs_new(debug ? dbg : outdir, &made);
+        return cli_fail(&err);
+    }
     if (debug)
         po.debug_dir = dbg;
     CliPhoto in;
@@ -266,14 +275,21 @@ int cmd_prepare(int argc, char **argv)
     if (st != SQ_OK) {
         rc = cli_fail(&err);
     } else {
-        char path[4096];
-        if (cli_write_full_mask(outdir, &prep, &in, mask_path, &err) != SQ_OK)
-            rc = cli_fail(&err);
-        snprintf(path, sizeof path, "%s/strip.png", outdir);
-        if (rc == CLI_OK && sq_io_write_image(path, &prep.strip, NULL, &err) != SQ_OK)
-            rc = cli_fail(&err);
-        if (rc == CLI_OK && cli_write_line(outdir, &prep, line_path ? &in.line : NULL, line_path, &err) != SQ_OK)
-            rc = cli_fail(&err);
+        /* into DIR/.prepare.tmp-XXXXXX first, then into DIR as a set */
+        char path[4200];
+        CliStaging stg = {0};
+        if (cli_pathf(path, sizeof path, "%s/.prepare.tmp-XXXXXX", outdir) != 0)
+            st = sq_error_set(&err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+        else
+            st = cli_staging_open(&stg, path, outdir, 8, &err);
+        if (st == SQ_OK)
+            st = cli_write_full_mask(&stg, outdir, &prep, &in, mask_path, &err);
+        if (st == SQ_OK)
+            st = cli_staging_path(&stg, "strip.png", path, sizeof path, &err);
+        if (st == SQ_OK)
+            st = sq_io_write_image(path, &prep.strip, NULL, &err);
+        if (st == SQ_OK)
+            st = cli_write_line(&stg, outdir, &prep, line_path ? &in.line : NULL, line_path, &err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "photo", argv[optind]);
         cJSON_AddStringToObject(o, "mask_source", sq_mask_source_name(prep.mask_source));
@@ -288,10 +304,21 @@ int cmd_prepare(int argc, char **argv)
         cJSON_AddItemToObject(o, "light", cJSON_CreateDoubleArray(lxy, 2));
         char *text = sq__json_print(o);
         cJSON_Delete(o);
-        snprintf(path, sizeof path, "%s/prepared.json", outdir);
-        if (rc == CLI_OK && (!text || sq_io_write_file(path, text, strlen(text), &err) != SQ_OK))
-            rc = cli_fail(&err);
+        if (st == SQ_OK && !text)
+            st = sq_error_set(&err, SQ_ERR_NOMEM, outdir, "out of memory");
+        if (st == SQ_OK)
+            st = cli_staging_path(&stg, "prepared.json", path, sizeof path, &err);
+        if (st == SQ_OK)
+            st = sq_io_write_file(path, text, strlen(text), &err);
         free(text);
+        if (st == SQ_OK)
+            st = cli_staging_commit(&stg, 1, &err);
+        else
+            cli_staging_where(&stg, &err);
+        if (stg.files)
+            cli_staging_free(&stg);
+        if (st != SQ_OK)
+            rc = cli_fail(&err);
         char warning[512];
         if (rc == CLI_OK && cli_short_strip(&prep, line_path != NULL, warning, sizeof warning))
             fprintf(stderr, "squama: warning: %s\n", warning);

@@ -108,10 +108,12 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
     char name[32], pattern[4200], path[4200];
     snprintf(pattern, sizeof pattern, "%s/.render.tmp-XXXXXX", outdir);
     CliStaging stg;
-    SqStatus st = cli_staging_open(&stg, pattern, NMAPS + 1, err);
+    SqStatus st = cli_staging_open(&stg, pattern, outdir, NMAPS + 1, err);
+    stg.what = "map";
     for (int i = 0; i < NMAPS && st == SQ_OK; i++) {
         snprintf(name, sizeof name, "%s.%s", maps[i].name, ext);
-        cli_staging_path(&stg, name, path, sizeof path);
+        if ((st = cli_staging_path(&stg, name, path, sizeof path, err)) != SQ_OK)
+            break;
         SqWriteOptions wo = {.format = png ? SQ_FORMAT_PNG : SQ_FORMAT_EXR,
                              .bits = bits ? bits : (png ? maps[i].bits : 16)};
         st = sq_io_write_image(path, maps[i].img, &wo, err);
@@ -124,8 +126,9 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         po.view_scale = 1.5;
         po.texture_size = go.width < 1024 ? go.width : 1024;
         SqImage photo, mask;
-        cli_staging_path(&stg, "preview.png", path, sizeof path);
-        st = sq_fit_synth_photo(p, &po, &photo, &mask, NULL, err);
+        st = cli_staging_path(&stg, "preview.png", path, sizeof path, err);
+        if (st == SQ_OK)
+            st = sq_fit_synth_photo(p, &po, &photo, &mask, NULL, err);
         if (st == SQ_OK) {
             st = sq_io_write_image(path, &photo, NULL, err);
             sq_image_free(&photo);
@@ -133,13 +136,9 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         }
     }
     if (st == SQ_OK) /* all written: into place as a set */
-        st = cli_staging_commit(&stg, outdir, quiet, err);
-    else if (stg.dir[0] && strncmp(err->where, stg.dir, strlen(stg.dir)) == 0 && err->where[strlen(stg.dir)] == '/') {
-        char staged[64]; /* the map's own name, not the staging folder's */
-        snprintf(staged, sizeof staged, "%.63s", err->where + strlen(stg.dir) + 1);
-        if (cli_pathf(err->where, sizeof err->where, "%s/%s", outdir, staged) != 0)
-            snprintf(err->where, sizeof err->where, "%s", staged);
-    }
+        st = cli_staging_commit(&stg, quiet, err);
+    else
+        cli_staging_where(&stg, err);
     if (stg.files)
         cli_staging_free(&stg);
     if (st != SQ_OK)

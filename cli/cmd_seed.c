@@ -131,8 +131,8 @@ static int usable_dir(const char *path, SqError *err)
 static SqStatus stage_file(CliStaging *s, const char *name, const void *data, size_t len, SqError *err)
 {
     char path[4200];
-    cli_staging_path(s, name, path, sizeof path);
-    return sq_io_write_file(path, data, len, err);
+    SqStatus st = cli_staging_path(s, name, path, sizeof path, err);
+    return st == SQ_OK ? sq_io_write_file(path, data, len, err) : st;
 }
 
 typedef struct Seeding {
@@ -268,7 +268,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
             return sq_error_set(err, SQ_ERR_IO, pattern, "cannot create the folder: %s", strerror(errno));
     }
     snprintf(pattern, sizeof pattern, "%.*s.tmp-XXXXXX", (int)len, outdir);
-    if (cli_staging_open(&stg, pattern, r->n + 2, err) != SQ_OK)
+    if (cli_staging_open(&stg, pattern, outdir, r->n + 2, err) != SQ_OK)
         return err->status;
     SqStatus st = SQ_OK;
     SqPresetInfo *info = malloc(sizeof *info);
@@ -308,10 +308,11 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
     }
     if (st == SQ_OK) {
         char path[4200];
-        cli_staging_path(&stg, "sheet.png", path, sizeof path);
         SqGenOptions go = sq_gen_options_default(size);
         go.threads = threads;
-        st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
+        st = cli_staging_path(&stg, "sheet.png", path, sizeof path, err);
+        if (st == SQ_OK)
+            st = cli_sheet_write(path, presets, lp, r->n, size, &cols, go, err);
     }
     if (st == SQ_OK) {
         /* DIR was checked new or empty; a rename over an empty folder replaces it. mkdtemp

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -134,33 +135,36 @@ typedef struct Clock {
     long resumed_evals;
 } Clock;
 
-static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
+/* Every output into the staging folder s; write_outputs moves them into outdir as a set. */
+static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *photo_path, const char *mask_path,
                               const char *line_path, const CliPhoto *given, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
                               const SqFitResult *r, int size, const Clock *clock, SqError *err)
 {
-    char path[4096];
+    char path[4200], file[64];
+    SqStatus st = SQ_OK;
     /* the front and the best preset */
-    snprintf(path, sizeof path, "%s/front", outdir);
-    if (cli_mkdirs(path) != 0)
-        return sq_error_set(err, SQ_ERR_IO, path, "cannot create the folder: %s", strerror(errno));
-    for (int i = 0; i < r->nfront; i++) {
-        snprintf(path, sizeof path, "%s/front/%02d.json", outdir, i);
+    for (int i = 0; i < r->nfront && st == SQ_OK; i++) {
+        snprintf(file, sizeof file, "front/%02d.json", i);
         char name[64];
         snprintf(name, sizeof name, "front %d of the fit", i);
-        SqStatus st = cli_fit_write_preset(path, &r->front[i], name, err);
-        if (st != SQ_OK)
-            return st;
+        st = cli_staging_path(s, file, path, sizeof path, err);
+        if (st == SQ_OK)
+            st = cli_fit_write_preset(path, &r->front[i], name, err);
     }
-    for (int i = r->nfront; i < 1000; i++) { /* a longer front an earlier fit left here */
-        snprintf(path, sizeof path, "%s/front/%02d.json", outdir, i);
-        if (unlink(path) != 0)
+    for (int i = r->nfront; i < 1000 && st == SQ_OK; i++) { /* a longer front an earlier fit left here */
+        struct stat sb;
+        snprintf(file, sizeof file, "front/%02d.json", i);
+        if (cli_pathf(path, sizeof path, "%s/%s", outdir, file) != 0 || lstat(path, &sb) != 0)
             break;
+        st = cli_staging_drop(s, file, err);
     }
-    snprintf(path, sizeof path, "%s/best.json", outdir);
     const char *base = strrchr(photo_path, '/');
     char name[256];
     snprintf(name, sizeof name, "fit of %s", base ? base + 1 : photo_path);
-    SqStatus st = cli_fit_write_preset(path, &r->best, name, err);
+    if (st == SQ_OK)
+        st = cli_staging_path(s, "best.json", path, sizeof path, err);
+    if (st == SQ_OK)
+        st = cli_fit_write_preset(path, &r->best, name, err);
     if (st != SQ_OK)
         return st;
 
@@ -174,21 +178,23 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         {"basecolor", &tex.basecolor, 8}, {"height", &tex.height, 16},
         {"roughness", &tex.roughness, 8}, {"normal", &tex.normal, 8}};
     for (size_t i = 0; i < sizeof maps / sizeof maps[0] && st == SQ_OK; i++) {
-        snprintf(path, sizeof path, "%s/%s.png", outdir, maps[i].name);
+        snprintf(file, sizeof file, "%s.png", maps[i].name);
         SqWriteOptions wo = {.bits = maps[i].bits};
-        st = sq_io_write_image(path, maps[i].img, &wo, err);
+        st = cli_staging_path(s, file, path, sizeof path, err);
+        if (st == SQ_OK)
+            st = sq_io_write_image(path, maps[i].img, &wo, err);
     }
     SqImage strip = {0};
     if (st == SQ_OK)
         st = sq_fit_candidate_strip(&tex.basecolor, &tex.normal, &tex.roughness, &prep->light, r->best.view_scale, fo->band_centre,
                                     prep->strip.height, &strip, err);
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/fitted_strip.png", outdir);
+    if (st == SQ_OK)
+        st = cli_staging_path(s, "fitted_strip.png", path, sizeof path, err);
+    if (st == SQ_OK)
         st = sq_io_write_image(path, &strip, NULL, err);
-    }
     sq_gen_textures_free(&tex);
     if (st == SQ_OK)
-        st = cli_fit_write_kinds(outdir, prep, fo->band_centre, r, &strip, size, base ? base + 1 : photo_path, err);
+        st = cli_fit_write_kinds(s, prep, fo->band_centre, r, &strip, size, base ? base + 1 : photo_path, err);
     sq_image_free(&strip);
     if (st == SQ_OK) {
         SqPhotoOptions po = sq_fit_photo_options_default();
@@ -200,25 +206,27 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
         SqImage photo, mask;
         st = sq_fit_synth_photo(&r->best.params, &po, &photo, &mask, NULL, err);
         if (st == SQ_OK) {
-            snprintf(path, sizeof path, "%s/preview.png", outdir);
-            st = sq_io_write_image(path, &photo, NULL, err);
+            st = cli_staging_path(s, "preview.png", path, sizeof path, err);
+            if (st == SQ_OK)
+                st = sq_io_write_image(path, &photo, NULL, err);
             sq_image_free(&photo);
             sq_image_free(&mask);
         }
     }
     if (st == SQ_OK) { /* the prepared photo; not over the photo fitted, when it is this one */
-        snprintf(path, sizeof path, "%s/photo.jpg", outdir);
-        if (!cli_same_file(photo_path, path))
+        if (cli_pathf(path, sizeof path, "%s/photo.jpg", outdir) != 0)
+            st = sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+        else if (!cli_same_file(photo_path, path) && (st = cli_staging_path(s, "photo.jpg", path, sizeof path, err)) == SQ_OK)
             st = sq_io_write_image(path, &prep->photo, NULL, err);
     }
     if (st == SQ_OK)
-        st = cli_write_full_mask(outdir, prep, given, mask_path, err);
-    if (st == SQ_OK) {
-        snprintf(path, sizeof path, "%s/strip.png", outdir);
-        st = sq_io_write_image(path, &prep->strip, NULL, err);
-    }
+        st = cli_write_full_mask(s, outdir, prep, given, mask_path, err);
     if (st == SQ_OK)
-        st = cli_write_line(outdir, prep, line_path ? &given->line : NULL, line_path, err);
+        st = cli_staging_path(s, "strip.png", path, sizeof path, err);
+    if (st == SQ_OK)
+        st = sq_io_write_image(path, &prep->strip, NULL, err);
+    if (st == SQ_OK)
+        st = cli_write_line(s, outdir, prep, line_path ? &given->line : NULL, line_path, err);
     if (st != SQ_OK)
         return st;
 
@@ -410,13 +418,38 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     cJSON_Delete(root);
     if (!text)
         return sq_error_set(err, SQ_ERR_NOMEM, "fit.json", "out of memory");
-    snprintf(path, sizeof path, "%s/fit.json", outdir);
-    st = sq_io_write_file(path, text, strlen(text), err);
+    st = cli_staging_path(s, "fit.json", path, sizeof path, err);
+    if (st == SQ_OK)
+        st = sq_io_write_file(path, text, strlen(text), err);
     free(text);
+    if (st == SQ_OK)
+        st = cli_staging_path(s, "report.html", path, sizeof path, err);
     if (st != SQ_OK)
         return st;
-    return cli_fit_report(outdir, photo_path, r, short_strip ? warning : NULL, line_path != NULL, clock->prepare,
+    return cli_fit_report(path, photo_path, r, short_strip ? warning : NULL, line_path != NULL, clock->prepare,
                           clock->search, total, err);
+}
+
+/* The outputs into DIR/.fit.tmp-XXXXXX, then moved into DIR as a set (cli_staging_commit):
+ * a failure or an interruption leaves an earlier fit's outputs whole, not some of each. */
+static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
+                              const char *line_path, const CliPhoto *given, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
+                              const SqFitResult *r, int size, const Clock *clock, SqError *err)
+{
+    char pattern[4200];
+    if (cli_pathf(pattern, sizeof pattern, "%s/.fit.tmp-XXXXXX", outdir) != 0)
+        return sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+    CliStaging stg;
+    SqStatus st = cli_staging_open(&stg, pattern, outdir, 64, err);
+    if (st != SQ_OK)
+        return st;
+    st = stage_outputs(&stg, outdir, photo_path, mask_path, line_path, given, prep, target, fo, r, size, clock, err);
+    if (st == SQ_OK)
+        st = cli_staging_commit(&stg, 1, err);
+    else
+        cli_staging_where(&stg, err);
+    cli_staging_free(&stg);
+    return st;
 }
 
 void cli_fit_job_init(CliFitJob *job)

@@ -5,6 +5,7 @@
 
 #include <getopt.h>
 
+#include "cli.h"
 #include "squama/fitness.h"
 #include "squama/search.h"
 
@@ -37,12 +38,12 @@ typedef struct CliFitOutcome {
 /* Writes a candidate as a preset file (atomically), named name, its view scale in its notes. */
 SqStatus cli_fit_write_preset(const char *path, const SqFitCandidate *c, const char *name, SqError *err);
 
-/* kinds/<kind>.json, each kind's best (r->kind_best) as a preset (and no other file
- * there), and kinds.png: prep's strip with each kind's fitted strip under it (rendered at
+/* kinds/<kind>.json staged in s, each kind's best (r->kind_best) as a preset (an earlier
+ * fit's of a kind this one has none of goes), and kinds.png: prep's strip with each kind's fitted strip under it (rendered at
  * size, seen at its view scale in the band centred on band_centre; the champion's is
  * champion_strip), labelled with the kind and its score. A picture that cannot be made is
  * a warning on stderr; a preset that cannot be written an error. */
-SqStatus cli_fit_write_kinds(const char *outdir, const SqPrepared *prep, double band_centre, const SqFitResult *r,
+SqStatus cli_fit_write_kinds(CliStaging *s, const SqPrepared *prep, double band_centre, const SqFitResult *r,
                              const SqImage *champion_strip, int size, const char *photo_name, SqError *err);
 
 /* fit's defaults: 60 s, seed 1, every core, 1024-pixel maps. */

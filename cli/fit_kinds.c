@@ -81,31 +81,34 @@ static SqStatus kinds_picture(const char *path, const SqImage *photo_strip, cons
                  : r->kind_recoloured[k] ? ", recoloured" : "");
         sq_io_draw_text(&img, PAD, y + 50, 11, t, c, &terr);
     }
+    char shown[4200];
     if (!labelled)
-        fprintf(stderr, "squama: warning: %s goes unlabelled: %s\n", path, terr.what);
+        fprintf(stderr, "squama: warning: %s goes unlabelled: %s\n", cli_staging_shown(path, shown, sizeof shown),
+                terr.what);
     SqStatus st = sq_io_write_image(path, &img, NULL, err);
     sq_image_free(&img);
     return st;
 }
 
-SqStatus cli_fit_write_kinds(const char *outdir, const SqPrepared *prep, double band_centre, const SqFitResult *r,
+SqStatus cli_fit_write_kinds(CliStaging *s, const SqPrepared *prep, double band_centre, const SqFitResult *r,
                              const SqImage *champion_strip, int size, const char *photo_name, SqError *err)
 {
-    char path[4096];
-    if (cli_pathf(path, sizeof path, "%s/kinds", outdir) != 0 || cli_mkdirs(path) != 0)
-        return sq_error_set(err, SQ_ERR_IO, path, "cannot create the folder: %s", strerror(errno));
+    char path[4200], file[64];
     /* the presets; a kind this fit has none of loses the one an earlier fit left */
     for (int k = 0; k < SQ_FIT_KINDS; k++) {
         const SqFitCandidate *c = &r->kind_best[k];
-        if (cli_pathf(path, sizeof path, "%s/kinds/%s.json", outdir, sq_fit_kind_name(k)) != 0)
-            return sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+        snprintf(file, sizeof file, "kinds/%s.json", sq_fit_kind_name(k));
         if (!isfinite(c->score)) {
-            unlink(path);
+            SqStatus st = cli_staging_drop(s, file, err);
+            if (st != SQ_OK)
+                return st;
             continue;
         }
         char name[256];
         snprintf(name, sizeof name, "the best %s skin of the fit of %s", sq_fit_kind_name(k), photo_name);
-        SqStatus st = cli_fit_write_preset(path, c, name, err);
+        SqStatus st = cli_staging_path(s, file, path, sizeof path, err);
+        if (st == SQ_OK)
+            st = cli_fit_write_preset(path, c, name, err);
         if (st != SQ_OK)
             return st;
     }
@@ -132,12 +135,17 @@ SqStatus cli_fit_write_kinds(const char *outdir, const SqPrepared *prep, double 
         show[k] = &own[k];
     }
     sq_gen_textures_free(&tex);
-    if (cli_pathf(path, sizeof path, "%s/kinds.png", outdir) != 0)
-        return sq_error_set(err, SQ_ERR_INVALID, outdir, "the output folder's name is too long");
+    if (st == SQ_OK)
+        st = cli_staging_path(s, "kinds.png", path, sizeof path, &perr);
     if (st == SQ_OK)
         st = kinds_picture(path, &prep->strip, show, r, &perr);
     if (st != SQ_OK) { /* not the picture of an earlier fit either */
-        unlink(path);
+        if (cli_staging_drop(s, "kinds.png", err) != SQ_OK) {
+            for (int k = 0; k < SQ_FIT_KINDS; k++)
+                sq_image_free(&own[k]);
+            return err->status;
+        }
+        cli_staging_where(s, &perr);
         fprintf(stderr, "squama: warning: no kinds.png: %s (%s)\n", perr.what, perr.where);
     }
     for (int k = 0; k < SQ_FIT_KINDS; k++)

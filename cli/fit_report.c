@@ -101,7 +101,7 @@ static void front_svg(CliBuf *b, const SqFitResult *r, int ox, int oy)
     cli_buf_put(b, "</svg>\n");
 }
 
-SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r, const char *warning,
+SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitResult *r, const char *warning,
                         int line_given, double prepare_s, double search_s, double total_s, SqError *err)
 {
     CliBuf b = {0};
@@ -252,8 +252,6 @@ SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitR
         free(b.s);
         return sq_error_set(err, SQ_ERR_NOMEM, "report.html", "out of memory");
     }
-    char path[4096];
-    snprintf(path, sizeof path, "%s/report.html", outdir);
     SqStatus st = sq_io_write_file(path, b.s, b.n, err);
     free(b.s);
     return st;

@@ -4,10 +4,10 @@
 
 #include "squama/search.h"
 
-/* Writes DIR/report.html (atomic) beside the images squama fit wrote there; warning (or
+/* Writes report.html at path (atomic), in the folder of the images squama fit writes; warning (or
  * NULL) says what about the photo's strip the reader should doubt; line_given: the fit
  * followed a body line given (no line.json of its own). */
-SqStatus cli_fit_report(const char *outdir, const char *photo_path, const SqFitResult *r, const char *warning,
+SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitResult *r, const char *warning,
                         int line_given, double prepare_s, double search_s, double total_s, SqError *err);
 
 #endif

@@ -101,26 +101,26 @@ static SqStatus line_picture(const SqPrepared *prep, const SqBodyLine *L, const 
     return st;
 }
 
-SqStatus cli_write_line(const char *dir, const SqPrepared *prep, const SqBodyLine *given, const char *given_path,
-                        SqError *err)
+SqStatus cli_write_line(CliStaging *s, const char *dir, const SqPrepared *prep, const SqBodyLine *given,
+                        const char *given_path, SqError *err)
 {
-    char path[4096];
+    char path[4200];
     SqBodyLine own = {0};
     SqStatus st = SQ_OK;
     if (given) { /* an earlier run's line.json is not the line followed now */
         if (cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
             return sq_error_set(err, SQ_ERR_IO, dir, "path too long");
-        if (!(given_path && cli_same_file(given_path, path)) && unlink(path) != 0 && errno != ENOENT)
-            return sq_error_set(err, SQ_ERR_IO, path, "cannot remove an earlier run's line: %s", strerror(errno));
+        if (!(given_path && cli_same_file(given_path, path)))
+            st = cli_staging_drop(s, "line.json", err);
     } else {
         st = sq_fit_prepared_line(prep, &own, err);
-        if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/line.json", dir) != 0)
-            st = sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+        if (st == SQ_OK)
+            st = cli_staging_path(s, "line.json", path, sizeof path, err);
         if (st == SQ_OK)
             st = sq_body_line_write(path, &own, err);
     }
-    if (st == SQ_OK && cli_pathf(path, sizeof path, "%s/line.png", dir) != 0)
-        st = sq_error_set(err, SQ_ERR_IO, dir, "path too long");
+    if (st == SQ_OK)
+        st = cli_staging_path(s, "line.png", path, sizeof path, err);
     if (st == SQ_OK)
         st = line_picture(prep, given ? given : &own, path, err);
     sq_body_line_free(&own);

@@ -44,6 +44,8 @@ static void usage(FILE *f)
  * the program as it would have (cli.h). */
 void cli_fatal_signal(int sig)
 {
+    if (cli_signal_waits(sig)) /* outputs moving into place: the signal comes back after */
+        return;
     sq_io_remove_temps();
     signal(sig, SIG_DFL);
     raise(sig);
@@ -54,8 +56,10 @@ void cli_fatal_signal(int sig)
 static void at_exit(void)
 {
     const char *w = sq_io_image_under_way();
+    char shown[4200];
     if (w)
-        fprintf(stderr, "squama: cannot write image: the write failed (is the disk full?) (%s)\n", w);
+        fprintf(stderr, "squama: cannot write image: the write failed (is the disk full?) (%s)\n",
+                cli_staging_shown(w, shown, sizeof shown));
     sq_io_remove_temps();
 }
 

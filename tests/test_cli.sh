@@ -236,6 +236,17 @@ check "prepare names the light" 0 out "lit from"
 for f in mask.png strip.png prepared.json line.json line.png debug/4_centre_line.png debug/6_strip.png; do
   [ -s "$TMP/prep/$f" ] || { echo "FAIL: prepare did not write $f"; fails=$((fails + 1)); }
 done
+# its outputs are a set: one it cannot write (a folder where prepared.json goes, the last)
+# leaves the earlier ones whole, and a line given takes the earlier run's line.json only
+# when the set goes in
+cp -r "$TMP/prep" "$TMP/prepset" && rm "$TMP/prepset/prepared.json" && mkdir "$TMP/prepset/prepared.json"
+run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepset"
+check "prepare into a set it cannot finish" 1 err "a folder is where the output goes; no output was written ($TMP/prepset/prepared.json)"
+for f in mask.png strip.png line.json line.png; do
+  cmp -s "$TMP/prepset/$f" "$TMP/prep/$f" || { echo "FAIL: a failed prepare changed $f"; fails=$((fails + 1)); }
+done
+[ "$(ls -A "$TMP/prepset" | tr '\n' ' ')" = "debug line.json line.png mask.png prepared.json strip.png " ] ||
+  { echo "FAIL: a failed prepare left: $(ls -A "$TMP/prepset")"; fails=$((fails + 1)); }
 # the centre line followed comes out as a body line, and goes back in
 [ -s "$TMP/prep/line.json" ] || { echo "FAIL: prepare did not write line.json"; fails=$((fails + 1)); }
 run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepl"
@@ -398,6 +409,53 @@ assert sorted(os.listdir(d + "/kinds")) == sorted(x + ".json" for x in f["kinds"
 assert set(f["kinds"]) <= {"none", "spots"}, f["kinds"]
 assert sorted(os.listdir(d + "/front")) == ["%02d.json" % i for i in range(len(f["front"]))], os.listdir(d + "/front")
 PY
+fi
+# the outputs are a set. One the fit cannot write (a folder where report.html goes, the
+# last to move in) leaves the earlier fit's whole; so does a full disk (a file size limit
+# of 8 KiB); a SIGTERM while they move in (strace sends it as best.json is set aside)
+# waits until all are in. Nothing temporary is left.
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fnew" --evals 100 --size 64 -j 2 -q --seed 5
+check "fit, seed 5" 0
+cmp -s "$TMP/fnew/best.json" "$TMP/fit/best.json" && { echo "FAIL: fits of seeds 1 and 5 gave one best.json"; fails=$((fails + 1)); }
+fit_set() { # description, folder, expected: old or new
+  local f
+  for f in best.json front/00.json basecolor.png normal.png kinds.png strip.png; do
+    cmp -s "$2/$f" "$TMP/$([ "$3" = old ] && echo fit || echo fnew)/$f" ||
+      { echo "FAIL: $1: $f is not the $3 one"; fails=$((fails + 1)); }
+  done
+  [ "$(ls -A "$2" | grep -c '^\.')" = 0 ] || { echo "FAIL: $1 left: $(ls -A "$2")"; fails=$((fails + 1)); }
+}
+cp -r "$TMP/fit" "$TMP/fset" && rm "$TMP/fset/report.html" && mkdir "$TMP/fset/report.html"
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fset" --evals 100 --size 64 -j 2 -q --seed 5
+check "fit into a set it cannot finish" 1 err "a folder is where the output goes; no output was written ($TMP/fset/report.html)"
+fit_set "a fit into a set it cannot finish" "$TMP/fset" old
+cp -r "$TMP/fit" "$TMP/ffull"
+(ulimit -f 8; "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/ffull" --evals 100 --size 64 -j 2 -q --seed 5 \
+   >"$out" 2>"$err"; echo $? >"$TMP/rc")
+check "fit onto a full disk" 1 err "(is the disk full?) ($TMP/ffull/"
+fit_set "a fit onto a full disk" "$TMP/ffull" old
+if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
+  cp -r "$TMP/fit" "$TMP/fterm"
+  ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -o /dev/null -P "$TMP/fterm/best.json" \
+    -e trace=rename -e inject=rename:signal=SIGTERM:when=1 \
+    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 >/dev/null 2>&1
+  rc=$?
+  [ $rc = 143 ] || { echo "FAIL: a fit stopped as its outputs move in: exit $rc, not 143"; fails=$((fails + 1)); }
+  fit_set "a fit stopped as its outputs move in" "$TMP/fterm" new
+  # the same sent from outside (kill), which lands on any of the fit's threads: strace
+  # holds the setting aside of best.json for 1.5 s, and the signal comes meanwhile
+  rm -rf "$TMP/fterm" && cp -r "$TMP/fit" "$TMP/fterm"
+  ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -o /dev/null -P "$TMP/fterm/best.json" \
+    -e trace=rename -e inject=rename:delay_exit=1500000 \
+    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 >/dev/null 2>&1 &
+  sp=$!
+  for i in $(seq 1200); do ls "$TMP"/fterm/.fit.tmp-*/old-best.json >/dev/null 2>&1 && break; sleep 0.05; done
+  pkill -TERM -P $sp
+  wait $sp; rc=$?
+  [ $rc = 143 ] || { echo "FAIL: a fit killed as its outputs move in: exit $rc, not 143"; fails=$((fails + 1)); }
+  fit_set "a fit killed as its outputs move in" "$TMP/fterm" new
+else
+  echo "skipped: the interrupted fit (needs strace)"
 fi
 run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl" --evals 100 --size 64 -j 2 -q
 check "fit --line" 0
