@@ -1,6 +1,7 @@
 #define _XOPEN_SOURCE 700
 
 #include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
 #include <ftw.h>
 #include <getopt.h>
@@ -99,6 +100,40 @@ int cli_bad_option(const char *cmd, char *const argv[], int c, const struct opti
 static const CliStaging *open_staging;
 static _Atomic int committing, held_signal;
 
+/* Staging folders of pattern's kind beside s's, left by a run that was killed (SIGKILL, a
+ * crash, a power cut): named on stderr, since one stopped while its files moved in holds
+ * the only copy of the outputs it had set aside (old-*). Nothing is removed. */
+static void warn_leftovers(const CliStaging *s, const char *pattern)
+{
+    const char *slash = strrchr(pattern, '/'), *base = slash ? slash + 1 : pattern;
+    const size_t k = strlen(base) > 6 ? strlen(base) - 6 : 0; /* without XXXXXX */
+    char dir[4096], path[8400];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - pattern) : 1, slash ? pattern : ".");
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    const struct dirent *e;
+    while ((e = readdir(d))) {
+        if (k == 0 || strncmp(e->d_name, base, k) != 0 || strlen(e->d_name) != k + 6)
+            continue;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (strcmp(path, s->dir) == 0)
+            continue;
+        int old = 0;
+        DIR *in = opendir(path);
+        for (const struct dirent *f; in && (f = readdir(in)) && !old;)
+            old = strncmp(f->d_name, "old-", 4) == 0;
+        if (in)
+            closedir(in);
+        fprintf(stderr, "squama: warning: %s is another run's temporary folder (one that was stopped, or one "
+                "under way)%s\n", path,
+                old ? "; it holds outputs that run had set aside (old-*): once it is over, move back what you need "
+                      "and remove it"
+                    : "; once it is over, remove it");
+    }
+    closedir(d);
+}
+
 SqStatus cli_staging_open(CliStaging *s, const char *pattern, const char *outdir, int cap, SqError *err)
 {
     memset(s, 0, sizeof *s);
@@ -120,6 +155,7 @@ SqStatus cli_staging_open(CliStaging *s, const char *pattern, const char *outdir
     }
     sq_io_temp_add(s->dir);
     open_staging = s;
+    warn_leftovers(s, pattern);
     return SQ_OK;
 }
 

@@ -247,6 +247,11 @@ for f in mask.png strip.png line.json line.png; do
 done
 [ "$(ls -A "$TMP/prepset" | tr '\n' ' ')" = "debug line.json line.png mask.png prepared.json strip.png " ] ||
   { echo "FAIL: a failed prepare left: $(ls -A "$TMP/prepset")"; fails=$((fails + 1)); }
+# a staging folder a killed run left is named, not removed
+mkdir -p "$TMP/prepleft/.prepare.tmp-Ab12Cd" && touch "$TMP/prepleft/.prepare.tmp-Ab12Cd/old-mask.png"
+run prepare "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/prepleft"
+check "a staging folder left by a killed run" 0 err "squama: warning: $TMP/prepleft/.prepare.tmp-Ab12Cd is another run's temporary folder (one that was stopped, or one under way); it holds outputs that run had set aside (old-*)"
+[ -e "$TMP/prepleft/.prepare.tmp-Ab12Cd/old-mask.png" ] || { echo "FAIL: a killed run's staging folder was removed"; fails=$((fails + 1)); }
 # the centre line followed comes out as a body line, and goes back in
 [ -s "$TMP/prep/line.json" ] || { echo "FAIL: prepare did not write line.json"; fails=$((fails + 1)); }
 run prepare "$TMP/p.jpg" --line "$TMP/prep/line.json" -o "$TMP/prepl"
