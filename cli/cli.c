@@ -7,6 +7,7 @@
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdarg.h>
@@ -95,29 +96,42 @@ int cli_bad_option(const char *cmd, char *const argv[], int c, const struct opti
     return cli_usage(cmd, "unknown option '%.*s'", len, word);
 }
 
-/* The staging open now (one at a time), for cli_staging_shown; and the signal a commit
- * holds back (cli_signal_waits). */
+/* The staging open now (one at a time), for cli_staging_shown. */
 static const CliStaging *open_staging;
-static _Atomic int committing, held_signal;
+/* What the program is doing, for the fatal signals' handler (cli_signal_waits): a commit
+ * and the handler's ending of the program exclude each other; a signal held back by a
+ * commit, which raises it again when its files are in. */
+enum { IDLE, COMMITTING, DYING };
+static _Atomic int program_state = IDLE, held_signal;
+_Static_assert(ATOMIC_INT_LOCK_FREE == 2, "the signal handler's atomics must be lock-free");
 
 /* Staging folders of pattern's kind beside s's, left by a run that was killed (SIGKILL, a
  * crash, a power cut): named on stderr, since one stopped while its files moved in holds
  * the only copy of the outputs it had set aside (old-*). Nothing is removed. */
+static void folder_of(const char *path, char *dir, size_t n)
+{
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, n, "%.*s", slash ? (slash == path ? 1 : (int)(slash - path)) : 1, slash ? path : ".");
+}
+
 static void warn_leftovers(const CliStaging *s, const char *pattern)
 {
     const char *slash = strrchr(pattern, '/'), *base = slash ? slash + 1 : pattern;
+    const char *own = strrchr(s->dir, '/') ? strrchr(s->dir, '/') + 1 : s->dir;
     const size_t k = strlen(base) > 6 ? strlen(base) - 6 : 0; /* without XXXXXX */
+    const int lead = slash ? (int)(slash - pattern) + 1 : 0; /* the folder, as given, with its slash */
     char dir[4096], path[8400];
-    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - pattern) : 1, slash ? pattern : ".");
+    folder_of(pattern, dir, sizeof dir);
     DIR *d = opendir(dir);
     if (!d)
         return;
     const struct dirent *e;
     while ((e = readdir(d))) {
-        if (k == 0 || strncmp(e->d_name, base, k) != 0 || strlen(e->d_name) != k + 6)
+        struct stat sb;
+        if (k == 0 || strncmp(e->d_name, base, k) != 0 || strlen(e->d_name) != k + 6 || strcmp(e->d_name, own) == 0)
             continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        if (strcmp(path, s->dir) == 0)
+        snprintf(path, sizeof path, "%.*s%s", lead, pattern, e->d_name);
+        if (lstat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
             continue;
         int old = 0;
         DIR *in = opendir(path);
@@ -146,8 +160,7 @@ SqStatus cli_staging_open(CliStaging *s, const char *pattern, const char *outdir
     if (!mkdtemp(s->dir)) {
         const int e = errno;
         char where[4096]; /* the folder it was to be made in, not the pattern */
-        const char *slash = strrchr(pattern, '/');
-        snprintf(where, sizeof where, "%.*s", slash ? (int)(slash - pattern) : 1, slash ? pattern : ".");
+        folder_of(pattern, where, sizeof where);
         SqStatus st = sq_error_set(err, SQ_ERR_IO, where, "cannot create a temporary folder in it: %s", strerror(e));
         s->dir[0] = 0;
         cli_staging_free(s);
@@ -287,11 +300,15 @@ static void staged_paths(const CliStaging *s, int i, char *from, char *old, char
 
 int cli_signal_waits(int sig)
 {
-    if (!atomic_load(&committing))
-        return 0;
+    int was = IDLE;
+    if (atomic_compare_exchange_strong(&program_state, &was, DYING) || was == DYING)
+        return 0; /* no commit starts now */
     atomic_store(&held_signal, sig);
     /* a commit that ended meanwhile may have looked already: the signal goes on here */
-    return atomic_load(&committing);
+    was = IDLE;
+    if (atomic_compare_exchange_strong(&program_state, &was, DYING) || was == DYING)
+        return 0;
+    return 1;
 }
 
 /* err for a rename of from to to that failed with errno e: what, and what it means */
@@ -317,8 +334,11 @@ SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
     sigaddset(&fatal, SIGINT);
     sigaddset(&fatal, SIGTERM);
     sigaddset(&fatal, SIGHUP);
-    sigprocmask(SIG_BLOCK, &fatal, &saved); /* this thread's; the others' wait in the handler */
-    atomic_store(&committing, 1);
+    pthread_sigmask(SIG_BLOCK, &fatal, &saved); /* this thread's; the others' wait in the handler */
+    int was = IDLE;
+    if (!atomic_compare_exchange_strong(&program_state, &was, COMMITTING))
+        for (;;) /* a signal's handler on another thread is removing the files and ends the program */
+            pause();
     SqStatus st = SQ_OK;
     int moved = 0;
     for (int i = 0; i < s->nfiles && st == SQ_OK; i++) {
@@ -386,9 +406,9 @@ SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
         }
     }
     cli_staging_release(s, 1);
-    atomic_store(&committing, 0);
+    atomic_store(&program_state, IDLE);
     const int held = atomic_exchange(&held_signal, 0);
-    sigprocmask(SIG_SETMASK, &saved, NULL);
+    pthread_sigmask(SIG_SETMASK, &saved, NULL);
     free(kept);
     if (held) /* from another thread: it ends the program now, as it would have */
         raise(held);

@@ -89,7 +89,8 @@ void cli_staging_where(const CliStaging *s, SqError *err);
  * bytes); else path itself */
 const char *cli_staging_shown(const char *path, char *buf, size_t n);
 /* For the fatal signals' handler, on any thread: 1 when sig must wait, a staging's files
- * being moved into place (the commit raises it again when they are in); 0 to go on. */
+ * being moved into place (the commit raises it again when they are in); 0 to go on and end
+ * the program, no commit starting from then on (one about to waits for the end). */
 int cli_signal_waits(int sig);
 
 /* 1 when a and b name the same file: the same inode if both exist, else the same path

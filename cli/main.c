@@ -1,5 +1,7 @@
 /* squama: fits a procedural snake-skin texture generator to photos.
  * `squama <command> [options]`; every command has --help. */
+#define _XOPEN_SOURCE 700
+
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -69,6 +71,7 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) {
         struct sigaction sa = {0}, old;
         sa.sa_handler = cli_fatal_signal;
+        sa.sa_flags = SA_RESTART; /* it returns, on a thread other than a commit's (cli_signal_waits) */
         sigemptyset(&sa.sa_mask);
         if (sigaction(fatal[i], NULL, &old) == 0 && old.sa_handler != SIG_IGN) /* nohup's stays */
             sigaction(fatal[i], &sa, NULL);
