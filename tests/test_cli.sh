@@ -419,23 +419,25 @@ fi
 # last to move in) leaves the earlier fit's whole; so does a full disk (a file size limit
 # of 8 KiB); a SIGTERM while they move in (strace sends it as best.json is set aside)
 # waits until all are in. Nothing temporary is left.
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fnew" --evals 100 --size 64 -j 2 -q --seed 5
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fnew" --evals 100 --size 64 -j 2 -q --seed 5 --categories none,spots --work-size 256
 check "fit, seed 5" 0
 cmp -s "$TMP/fnew/best.json" "$TMP/fit/best.json" && { echo "FAIL: fits of seeds 1 and 5 gave one best.json"; fails=$((fails + 1)); }
 fit_set() { # description, folder, expected: old or new
-  local f
+  local f want
+  want=$TMP/$([ "$3" = old ] && echo fit || echo fnew)
   for f in best.json front/00.json basecolor.png normal.png kinds.png strip.png; do
-    cmp -s "$2/$f" "$TMP/$([ "$3" = old ] && echo fit || echo fnew)/$f" ||
-      { echo "FAIL: $1: $f is not the $3 one"; fails=$((fails + 1)); }
+    cmp -s "$2/$f" "$want/$f" || { echo "FAIL: $1: $f is not the $3 one"; fails=$((fails + 1)); }
   done
+  [ "$(cd "$2" && ls kinds front)" = "$(cd "$want" && ls kinds front)" ] ||
+    { echo "FAIL: $1: kinds/ and front/ are not the $3 ones"; fails=$((fails + 1)); }
   [ "$(ls -A "$2" | grep -c '^\.')" = 0 ] || { echo "FAIL: $1 left: $(ls -A "$2")"; fails=$((fails + 1)); }
 }
 cp -r "$TMP/fit" "$TMP/fset" && rm "$TMP/fset/report.html" && mkdir "$TMP/fset/report.html"
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fset" --evals 100 --size 64 -j 2 -q --seed 5
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fset" --evals 100 --size 64 -j 2 -q --seed 5 --categories none,spots --work-size 256
 check "fit into a set it cannot finish" 1 err "a folder is where the output goes; no output was written ($TMP/fset/report.html)"
 fit_set "a fit into a set it cannot finish" "$TMP/fset" old
 cp -r "$TMP/fit" "$TMP/ffull"
-(ulimit -f 8; "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/ffull" --evals 100 --size 64 -j 2 -q --seed 5 \
+(ulimit -f 8; "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/ffull" --evals 100 --size 64 -j 2 -q --seed 5 --categories none,spots --work-size 256 \
    >"$out" 2>"$err"; echo $? >"$TMP/rc")
 check "fit onto a full disk" 1 err "(is the disk full?) ($TMP/ffull/"
 fit_set "a fit onto a full disk" "$TMP/ffull" old
@@ -443,7 +445,7 @@ if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
   cp -r "$TMP/fit" "$TMP/fterm"
   ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -o /dev/null -P "$TMP/fterm/best.json" \
     -e trace=rename -e inject=rename:signal=SIGTERM:when=1 \
-    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 >/dev/null 2>&1
+    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 --categories none,spots --work-size 256 >/dev/null 2>&1
   rc=$?
   [ $rc = 143 ] || { echo "FAIL: a fit stopped as its outputs move in: exit $rc, not 143"; fails=$((fails + 1)); }
   fit_set "a fit stopped as its outputs move in" "$TMP/fterm" new
@@ -452,7 +454,7 @@ if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
   rm -rf "$TMP/fterm" && cp -r "$TMP/fit" "$TMP/fterm"
   ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -o /dev/null -P "$TMP/fterm/best.json" \
     -e trace=rename -e inject=rename:delay_exit=1500000 \
-    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 >/dev/null 2>&1 &
+    "$SQ" fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fterm" --evals 100 --size 64 -j 2 -q --seed 5 --categories none,spots --work-size 256 >/dev/null 2>&1 &
   sp=$!
   for i in $(seq 1200); do ls "$TMP"/fterm/.fit.tmp-*/old-best.json >/dev/null 2>&1 && break; sleep 0.05; done
   pkill -TERM -P $sp
