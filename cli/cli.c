@@ -311,15 +311,17 @@ int cli_signal_waits(int sig)
     return 1;
 }
 
-/* err for a rename of from to to that failed with errno e: what, and what it means */
-static SqStatus rename_error(SqError *err, const char *to, const char *doing, const char *what, int e)
+/* err for a rename to `to` that failed with errno e: "cannot VERB WHAT TAIL: why" */
+static SqStatus rename_error(SqError *err, const char *to, const char *verb, const char *what, const char *tail,
+                             int e)
 {
     if (e == EXDEV)
         return sq_error_set(err, SQ_ERR_IO, to,
-                            "cannot %s: its folder is on another file system than the output folder (a link?), "
+                            "cannot %s %s%s: its folder is on another file system than the output folder (a link?), "
                             "and the outputs move in as a set by renaming; no %s was written",
-                            doing, what);
-    return sq_error_set(err, SQ_ERR_IO, to, "cannot %s: %s; no %s was written", doing, strerror(e), what);
+                            verb, what, tail, what);
+    return sq_error_set(err, SQ_ERR_IO, to, "cannot %s %s%s: %s; no %s was written", verb, what, tail, strerror(e),
+                        what);
 }
 
 SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
@@ -355,22 +357,16 @@ SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
             else
                 kept[i] = (char)!exists;
         } else if (f->drop) { /* set aside; a folder there is not an earlier output */
-            char doing[64];
-            snprintf(doing, sizeof doing, "remove the earlier %s", what);
             if (exists && !folder && rename(to, old) != 0)
-                st = rename_error(err, to, doing, what, errno);
+                st = rename_error(err, to, "remove the earlier", what, "", errno);
             else
                 kept[i] = (char)(exists && !folder);
         } else if (folder) {
             st = sq_error_set(err, SQ_ERR_IO, to, "a folder is where the %s goes; no %s was written", what, what);
         } else if (exists && rename(to, old) != 0) {
-            char doing[64];
-            snprintf(doing, sizeof doing, "replace the %s", what);
-            st = rename_error(err, to, doing, what, errno);
+            st = rename_error(err, to, "replace the", what, "", errno);
         } else if (rename(from, to) != 0) {
-            char doing[64];
-            snprintf(doing, sizeof doing, "move the %s into place", what);
-            st = rename_error(err, to, doing, what, errno);
+            st = rename_error(err, to, "move the", what, " into place", errno);
             kept[i] = exists && rename(old, to) != 0;
         } else {
             kept[i] = (char)exists;

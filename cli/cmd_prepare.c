@@ -315,8 +315,7 @@ int cmd_prepare(int argc, char **argv)
             st = cli_staging_commit(&stg, 1, &err);
         else
             cli_staging_where(&stg, &err);
-        if (stg.files)
-            cli_staging_free(&stg);
+        cli_staging_free(&stg);
         if (st != SQ_OK)
             rc = cli_fail(&err);
         char warning[512];

@@ -139,8 +139,7 @@ static SqStatus write_maps(const char *outdir, const SqParams *p, const SqTextur
         st = cli_staging_commit(&stg, quiet, err);
     else
         cli_staging_where(&stg, err);
-    if (stg.files)
-        cli_staging_free(&stg);
+    cli_staging_free(&stg);
     if (st != SQ_OK)
         cli_rmdirs_new(outdir, &made);
     cli_made_forget(outdir, &made);
