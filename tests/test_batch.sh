@@ -201,10 +201,10 @@ PY
   grep '"id":"lined"' "$out" | grep -q '"resumed":false' || fail "the changed line's row was not fitted again"
 
   # a real crash: the batch killed (SIGKILL) once its first row is done; that row is read
-  # back, the one it was fitting is fitted again, nothing half-written is listed (eight
-  # rows, so that a busy machine holding this shell up does not let the batch finish)
+  # back, the one it was fitting is fitted again, a row not begun is fitted, nothing
+  # half-written is listed
   printf 'id,photo\n' >"$TMP/k.csv"
-  for k in 1 2 3 4 5 6 7 8; do echo "k$k,photos/bands.jpg" >>"$TMP/k.csv"; done
+  for k in 1 2 3; do echo "k$k,photos/bands.jpg" >>"$TMP/k.csv"; done
   # every row after the first fitted for ever ($SQUAMA_FIT_PROGRAM adds a huge evaluation
   # budget, the last --evals counting), so the fit running at the kill must die with the
   # batch rather than finish
@@ -223,9 +223,9 @@ EOF
   fits_running "$TMP/k/.tmp-" kill && fail "a row's fit outlived the batch killed"
   [ -s "$TMP/k/k1/done.json" ] || fail "the first row was not done before the kill"
   run batch "$TMP/k.csv" -o "$TMP/k" "${FIT[@]}" --json --jobs 1 -j 1
-  check "batch after kill -9" 0 out '"rows":8' out '"ok":8'
+  check "batch after kill -9" 0 out '"rows":3' out '"ok":3'
   grep '"id":"k1"' "$out" | grep -q '"resumed":true' || fail "k1 was fitted again after the kill"
-  [ "$(catalogue_ids "$TMP/k" ok)" = "k1 k2 k3 k4 k5 k6 k7 k8" ] || fail "after the kill: $(catalogue_ids "$TMP/k" ok)"
+  [ "$(catalogue_ids "$TMP/k" ok)" = "k1 k2 k3" ] || fail "after the kill: $(catalogue_ids "$TMP/k" ok)"
   ls -a "$TMP/k" | grep -q '^\.tmp-' && fail "a partial row was left after the rerun"
 
   # a fit that crashes (a library's failed assertion aborts it) costs its row, not the

@@ -464,7 +464,7 @@ if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
 else
   echo "skipped: the interrupted fit (needs strace)"
 fi
-run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl" --evals 100 --size 64 -j 2 -q
+run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl" --evals 100 --size 64 -j 2 -q --categories none
 check "fit --line" 0
 [ -e "$TMP/fitl/line.json" ] && { echo "FAIL: fit --line wrote line.json"; fails=$((fails + 1)); }
 grep -q '"mask_source": "line"' "$TMP/fitl/fit.json" && grep -q "\"line\": \"$TMP/fit/line.json\"" "$TMP/fitl/fit.json" ||
@@ -473,11 +473,11 @@ grep -q '"mask_source": "line"' "$TMP/fitl/fit.json" && grep -q "\"line\": \"$TM
 # the line followed), the report says the line was given; the folder's own line.json given
 # back stays as it is
 cp -r "$TMP/fit" "$TMP/fitl2" && cp -r "$TMP/fit" "$TMP/fitl3"
-run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl2" --evals 100 --size 64 -j 2 -q
+run fit "$TMP/p.jpg" --line "$TMP/fit/line.json" -o "$TMP/fitl2" --evals 100 --size 64 -j 2 -q --categories none
 check "fit --line over an earlier fit" 0
 [ -e "$TMP/fitl2/line.json" ] && { echo "FAIL: a stale line.json left beside the line followed"; fails=$((fails + 1)); }
 grep -q "the body line given" "$TMP/fitl2/report.html" || { echo "FAIL: report does not say the line was given"; fails=$((fails + 1)); }
-run fit "$TMP/p.jpg" --line "$TMP/fitl3/line.json" -o "$TMP/fitl3" --evals 100 --size 64 -j 2 -q
+run fit "$TMP/p.jpg" --line "$TMP/fitl3/line.json" -o "$TMP/fitl3" --evals 100 --size 64 -j 2 -q --categories none
 check "fit --line DIR/line.json -o DIR" 0
 cmp -s "$TMP/fit/line.json" "$TMP/fitl3/line.json" || { echo "FAIL: the line given was changed"; fails=$((fails + 1)); }
 # the photo fitted is the folder's photo.jpg: not written over; mask.png at the photo's
@@ -501,7 +501,7 @@ run batch --merge "$TMP/nowhere" -o "$TMP/gone/merged"; check "merge refused" 1 
 mkdir -p "$TMP/kept"
 run prepare "$TMP/none.jpg" -o "$TMP/kept"; check "prepare refused into a folder of yours" 1 err "cannot open image"
 [ -d "$TMP/kept" ] || { echo "FAIL: a refused run removed a folder it did not make"; fails=$((fails + 1)); }
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitj" --evals 200 --size 64 -j 2 --json --categories none,spots
 check "fit --json" 0 out '"stage"'
 if command -v python3 >/dev/null; then
   python3 - "$out" <<'PY' || { echo "FAIL: fit --json lines"; fails=$((fails + 1)); }
@@ -515,7 +515,7 @@ run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 
 check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 # an evaluation budget is charged for the evaluations the checkpoint spent, as a time budget is
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr4" --evals 1000 --size 64 -j 2 --resume "$TMP/fit"
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr4" --evals 400 --size 64 -j 2 --resume "$TMP/fit"
 check "fit --resume --evals" 0 err "resuming from $TMP/fit: "
 if command -v python3 >/dev/null; then
   python3 - "$TMP/fit" "$TMP/fitr4" "$err" <<'PY' || { echo "FAIL: fit --resume charged the checkpoint's evaluations"; fails=$((fails + 1)); }
@@ -523,11 +523,11 @@ import json, sys
 spent = json.load(open(sys.argv[1] + "/checkpoint/checkpoint.json"))["evaluations"]
 fit = json.load(open(sys.argv[2] + "/fit.json"))["search"]
 again = json.load(open(sys.argv[2] + "/checkpoint/checkpoint.json"))["evaluations"]
-assert 0 < spent < 900, spent
-assert fit["max_evaluations"] == 1000 - spent, (fit["max_evaluations"], spent)
+assert 0 < spent < 350, spent
+assert fit["max_evaluations"] == 400 - spent, (fit["max_evaluations"], spent)
 assert fit["resumed"]["evaluations"] == spent, fit["resumed"]
 assert spent < again <= spent + fit["evaluations"], (spent, again, fit["evaluations"])
-assert ("%d evaluations spent; %d evaluations left" % (spent, 1000 - spent)) in open(sys.argv[3]).read()
+assert ("%d evaluations spent; %d evaluations left" % (spent, 400 - spent)) in open(sys.argv[3]).read()
 PY
 fi
 sed 's/"evaluations": [0-9]*/"evaluations": -3/' "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/negev.json"

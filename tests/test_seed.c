@@ -136,17 +136,18 @@ static void category_presets(void **state)
     assert_true(gaps >= 1 && smooth_plain >= 1);
 }
 
-/* Reaction-diffusion: two presets of the complex category, valid, plausible, loadable (on
- * one thread, no thread comparison: each candidate is a simulation, 10 s in all). */
+/* Reaction-diffusion: a preset of the complex category, valid, plausible, loadable (on one
+ * thread, no thread comparison: each candidate is a simulation; one preset, so a pool of 12
+ * where two would draw at least 64; picks that differ are category_presets' check). */
 static void complex_presets(void **state)
 {
     (void)state;
-    SqSeedOptions o = small(2, 1);
+    SqSeedOptions o = small(1, 1);
     SqSeedResult r;
     SqError err;
     assert_int_equal(sq_seed_category(SQ_PATTERN_COMPLEX, &o, &r, &err), SQ_OK);
     printf("  complex drawn %d, implausible %d, pool %d\n", r.drawn, r.implausible, r.npool);
-    assert_int_equal(r.n, 2);
+    assert_int_equal(r.n, 1);
     for (int i = 0; i < r.n; i++) {
         const SqSeedCandidate *c = &r.picks[i];
         assert_int_equal(c->params.Pattern_Type, SQ_PATTERN_COMPLEX);
@@ -155,7 +156,6 @@ static void complex_presets(void **state)
         assert_true(c->contrast >= 20);
         loads_back(&c->params);
     }
-    assert_false(sq_params_equal(&r.picks[0].params, &r.picks[1].params));
     sq_seed_result_free(&r);
 }
 
