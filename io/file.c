@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -16,24 +17,23 @@
 
 /* The temporary files being written (and what sq_io_temp_add registers), for
  * sq_io_remove_temps in a signal handler: a slot is 0 free, 1 being filled, 2 holding a
- * name. Lock-free, so a handler that interrupts a write never waits; a name too long for
- * a slot, or a table full, goes unregistered. Room for a staging folder of
- * squama seed's 256 presets beside the writes under way. */
-enum { TEMP_SLOTS = 512, TEMP_NAME = 1024 };
-static struct {
-    atomic_int state;
-    char name[TEMP_NAME];
-} temps[TEMP_SLOTS];
+ * name. Lock-free, so a handler that interrupts a write never waits; a table full goes
+ * unregistered. Room for a staging folder of squama seed's 256 presets beside the writes
+ * under way. A slot holds any path the system can open (PATH_MAX); the states lie apart
+ * from the names, so that a scan touches only the pages of the slots in use. */
+enum { TEMP_SLOTS = 512, TEMP_NAME = PATH_MAX };
+static atomic_int temp_state[TEMP_SLOTS];
+static char temp_name[TEMP_SLOTS][TEMP_NAME];
 
 void sq_io_temp_add(const char *tmp)
 {
-    if (strlen(tmp) >= TEMP_NAME)
+    if (strlen(tmp) >= TEMP_NAME) /* no such file: open and mkdir refuse the name */
         return;
     for (int i = 0; i < TEMP_SLOTS; i++) {
         int free_slot = 0;
-        if (atomic_compare_exchange_strong(&temps[i].state, &free_slot, 1)) {
-            strcpy(temps[i].name, tmp);
-            atomic_store(&temps[i].state, 2);
+        if (atomic_compare_exchange_strong(&temp_state[i], &free_slot, 1)) {
+            strcpy(temp_name[i], tmp);
+            atomic_store(&temp_state[i], 2);
             return;
         }
     }
@@ -42,8 +42,8 @@ void sq_io_temp_add(const char *tmp)
 void sq_io_temp_forget(const char *tmp)
 {
     for (int i = 0; i < TEMP_SLOTS; i++)
-        if (atomic_load(&temps[i].state) == 2 && strcmp(temps[i].name, tmp) == 0) {
-            atomic_store(&temps[i].state, 0);
+        if (atomic_load(&temp_state[i]) == 2 && strcmp(temp_name[i], tmp) == 0) {
+            atomic_store(&temp_state[i], 0);
             return;
         }
 }
@@ -51,12 +51,12 @@ void sq_io_temp_forget(const char *tmp)
 void sq_io_remove_temps(void)
 {
     for (int i = 0; i < TEMP_SLOTS; i++) /* the files, then the folders they were in */
-        if (atomic_load(&temps[i].state) == 2)
-            unlink(temps[i].name);
+        if (atomic_load(&temp_state[i]) == 2)
+            unlink(temp_name[i]);
     for (int pass = 0; pass < 8; pass++) { /* a folder inside another goes first, whatever their slots */
         int gone = 0;
         for (int i = 0; i < TEMP_SLOTS; i++)
-            if (atomic_load(&temps[i].state) == 2 && rmdir(temps[i].name) == 0)
+            if (atomic_load(&temp_state[i]) == 2 && rmdir(temp_name[i]) == 0)
                 gone++;
         if (!gone)
             break;

@@ -2,6 +2,7 @@
  * way a file can be bad. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -331,23 +332,42 @@ static void atomic_writes_and_write_errors(void **state)
 }
 
 /* A write under way (its temporary file made, not yet renamed) is what a signal handler
- * removes with sq_io_remove_temps; the files already written stay, and a temporary file
- * renamed into place is forgotten (not removed under its old name's reuse). */
+ * removes with sq_io_remove_temps, however long its path; the files already written stay,
+ * and a temporary file renamed into place is forgotten (not removed under its old name's
+ * reuse). */
 static void interrupted_writes_leave_no_temp_files(void **state)
 {
     (void)state;
-    char path[1024], tmp[1200], done[1024];
+    char path[1024], tmp[1200], done[1024], deep[4096], deep_tmp[4096];
     struct stat st;
     SqError err;
     tmp_path(path, sizeof path, "half.png");
     assert_int_equal(sq__io_make_temp(path, tmp, sizeof tmp), 0);
     assert_int_equal(stat(tmp, &st), 0);
+    /* a path of some 2,000 bytes: folders of 250 bytes, eight deep */
+    char seg[251];
+    memset(seg, 'd', 250);
+    seg[250] = '\0';
+    int n = snprintf(deep, sizeof deep, "%s", SQUAMA_TEST_TMP);
+    for (int i = 0; i < 8; i++) {
+        n += snprintf(deep + n, sizeof deep - (size_t)n, "/%s", seg);
+        assert_true(mkdir(deep, 0777) == 0 || errno == EEXIST);
+    }
+    snprintf(deep + n, sizeof deep - (size_t)n, "/half.png");
+    assert_true(strlen(deep) > 2000);
+    assert_int_equal(sq__io_make_temp(deep, deep_tmp, sizeof deep_tmp), 0);
+    assert_int_equal(stat(deep_tmp, &st), 0);
     assert_int_equal(sq_io_write_file(tmp_path(done, sizeof done, "whole.txt"), "x", 1, &err), SQ_OK);
     sq_io_remove_temps();
     assert_int_not_equal(stat(tmp, &st), 0);
+    assert_int_not_equal(stat(deep_tmp, &st), 0);
     assert_int_equal(stat(done, &st), 0);
     assert_int_equal(stat(path, &st) == 0, 0);
     assert_no_temp_files();
+    for (int i = 0; i < 8; i++) { /* the folders, deepest first */
+        *strrchr(deep, '/') = '\0';
+        assert_int_equal(rmdir(deep), 0);
+    }
 }
 
 /* Pixels of img that differ from the flat grey v; their bounding box in *box (x0, y0,
