@@ -381,6 +381,9 @@ SqStatus cli_staging_commit(CliStaging *s, int quiet, SqError *err)
             continue;
         if (kept[i] ? rename(old, to) == 0 : f->drop || unlink(to) == 0)
             kept[i] = 0;
+        else if (!kept[i]) /* a new file with no old one under it */
+            fprintf(stderr, "squama: warning: the new %s stays (cannot remove it: %s), though the rest of its set "
+                    "was not written\n", to, strerror(errno));
     }
     for (int i = moved - 1; i >= 0 && st != SQ_OK; i--)
         if (s->files[i].folder && kept[i]) {

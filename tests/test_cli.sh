@@ -154,6 +154,15 @@ if command -v strace >/dev/null && strace -o /dev/null true 2>/dev/null; then
     { [ $o = 4 ] || [ $n = 4 ]; } && [ "$(ls -A "$TMP/r/k" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] ||
       { echo "FAIL: a render stopped at rename $when left $o old and $n new maps: $(ls -A "$TMP/r/k")"; fails=$((fails + 1)); }
   done
+  # a set that fails part way is taken back out; a new map that cannot be (strace makes its
+  # unlink fail) is named, not left unsaid
+  mkdir -p "$TMP/r/back/normal.png"
+  ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" strace -f -o /dev/null -P "$TMP/r/back/basecolor.png" \
+    -e trace=unlink,unlinkat -e inject=unlink,unlinkat:error=EACCES \
+    "$SQ" render "$SRC/presets/thesis/table_4_1_transversal.json" -o "$TMP/r/back" --size 32 >"$out" 2>"$err"; echo $? >"$TMP/rc"
+  check "a set taken back out but for one map" 1 err "a folder is where the map goes; no map was written ($TMP/r/back/normal.png)" \
+    err "squama: warning: the new $TMP/r/back/basecolor.png stays (cannot remove it: Permission denied), though the rest of its set was not written"
+  [ "$(ls -A "$TMP/r/back" | tr '\n' ' ')" = "basecolor.png normal.png " ] || { echo "FAIL: a set taken back out left: $(ls -A "$TMP/r/back")"; fails=$((fails + 1)); }
 else
   echo "skipped: the interrupted render (needs strace)"
 fi
