@@ -520,11 +520,12 @@ assert len(lines) >= 3 and all("evaluations" in l for l in lines[:-1]), lines[:2
 assert "best" in lines[-1] and lines[-1]["best"].endswith("best.json"), lines[-1]
 PY
 fi
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 64 -j 2 --resume "$TMP/fit" -q
+# (two kinds resumed: every kind's presets in the checkpoint are read, two searched on)
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr" --evals 200 --size 64 -j 2 --resume "$TMP/fit" -q --categories none,spots
 check "fit --resume" 0
 [ -s "$TMP/fitr/best.json" ] && [ ! -s "$out" ] || { echo "FAIL: resumed quiet fit"; fails=$((fails + 1)); }
 # an evaluation budget is charged for the evaluations the checkpoint spent, as a time budget is
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr4" --evals 400 --size 64 -j 2 --resume "$TMP/fit"
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fitr4" --evals 400 --size 64 -j 2 --resume "$TMP/fit" --categories none,spots
 check "fit --resume --evals" 0 err "resuming from $TMP/fit: "
 if command -v python3 >/dev/null; then
   python3 - "$TMP/fit" "$TMP/fitr4" "$err" <<'PY' || { echo "FAIL: fit --resume charged the checkpoint's evaluations"; fails=$((fails + 1)); }
