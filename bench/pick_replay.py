@@ -7,13 +7,24 @@ when its niche was dropped. So a change to the pick rule alone can be tried on t
 earlier recovery runs without fitting again: for each margin given, a plain skin within
 that fraction of the best score is picked, else the simplest kind within --parsimony of it.
 
+With --weights the five objectives are weighed anew instead: each kind's final objectives
+(kinds.KIND.objectives) over the fit's norms, every combination of the weights given
+(palette, histogram, shape, along, across), the pick's margins as search/fit.c has them;
+it prints the best combinations and, as a check against fitting 38 rows, the best one on
+the even rows scored on the odd ones and back (docs/recovery.md, session 45).
+
 usage: bench/pick_replay.py RUN_DIR [RUN_DIR ...] [--plain 0.05,0.1,0.3] [--parsimony 0.05]
+       bench/pick_replay.py RUN_DIR [RUN_DIR ...] --weights 0.25,0.5,1,2,4
 (RUN_DIR: a recovery --out folder, e.g. build-bench/recovery; its NN_category/squama/fit.json)
 """
 import argparse
 import glob
+import itertools
 import json
 import os
+
+OBJECTIVES = ("palette", "histogram", "shape", "along", "across")
+PLAIN = 0.3  # search/fit.c PLAIN_PARSIMONY
 
 # search/fit.c simplicity(): the simpler explanation first
 SIMPLICITY = {"none": 0, "longitudinal": 1, "transversal": 1, "spots": 2, "other_simple": 3,
@@ -28,6 +39,32 @@ def pick(scores, plain, parsimony):
     return min(near, key=lambda k: (SIMPLICITY[k], scores[k]))
 
 
+def weighed(fits, grid):
+    """The pick under every combination of objective weights from grid."""
+    def picks(w):
+        out = []
+        for _, truth, j in fits:
+            scores = {k: sum(wi * v["objectives"][o] / j["norm"][o] for wi, o in zip(w, OBJECTIVES))
+                      for k, v in j["kinds"].items()}
+            out.append(pick(scores, PLAIN, 0.05) == truth)
+        return out
+    equal = picks((1,) * len(OBJECTIVES))
+    print("equal weights: %d of %d right" % (sum(equal), len(fits)))
+    res = []
+    for w in itertools.product(grid, repeat=len(OBJECTIVES)):
+        p = picks(w)
+        res.append((sum(p), sum(x for x, f in zip(p, fits) if f[0] % 2 == 0),
+                    sum(x for x, f in zip(p, fits) if f[0] % 2 == 1), w))
+    res.sort(key=lambda r: -r[0])
+    for r in res[:5]:
+        print("weights %s: %d right (even rows %d, odd %d)" % (",".join("%g" % x for x in r[3]), *r[:3]))
+    for half, other, name in ((1, 2, "even"), (2, 1, "odd")):
+        b = max(res, key=lambda r: r[half])
+        rows = [x for x, f in zip(equal, fits) if f[0] % 2 == other - 1]
+        print("best on the %s rows (%s): %d of %d on the others, equal weights %d" % (
+            name, ",".join("%g" % x for x in b[3]), b[other], len(rows), sum(rows)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("runs", nargs="+")
@@ -35,18 +72,21 @@ def main():
                     help="margins for a plain skin, comma-separated (default 0.05 to 0.5)")
     ap.add_argument("--parsimony", type=float, default=0.05,
                     help="the margin for every other kind (default 0.05, as search/fit.c)")
+    ap.add_argument("--weights", help="weigh the objectives anew: the weights each may take, comma-separated")
     args = ap.parse_args()
-    fits = []
+    kept = []  # (run, NN_category, fit.json)
     for run in args.runs:
         for d in sorted(glob.glob(os.path.join(run, "[0-9][0-9]_*"))):
             path = os.path.join(d, "squama", "fit.json")
             if os.path.exists(path):
                 with open(path) as f:
-                    j = json.load(f)
-                truth = os.path.basename(d)[3:]
-                fits.append((run, os.path.basename(d), truth, j["category"], j["category_scores"]))
-    if not fits:
+                    kept.append((run, os.path.basename(d), json.load(f)))
+    if not kept:
         raise SystemExit("pick_replay: no fit.json under " + ", ".join(args.runs))
+    if args.weights:
+        weighed([(int(name[:2]), name[3:], j) for _, name, j in kept], [float(x) for x in args.weights.split(",")])
+        return
+    fits = [(run, name, name[3:], j["category"], j["category_scores"]) for run, name, j in kept]
     print("%d fits from %d runs" % (len(fits), len(args.runs)))
     base = [pick(s, args.parsimony, args.parsimony) for _, _, _, _, s in fits]
     agree = sum(b == c for b, (_, _, _, c, _) in zip(base, fits))
