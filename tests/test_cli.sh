@@ -533,11 +533,15 @@ import json, sys
 spent = json.load(open(sys.argv[1] + "/checkpoint/checkpoint.json"))["evaluations"]
 fit = json.load(open(sys.argv[2] + "/fit.json"))["search"]
 again = json.load(open(sys.argv[2] + "/checkpoint/checkpoint.json"))["evaluations"]
-assert 0 < spent < 350, spent
+assert 0 < spent <= 300, spent  # the fit's own --evals; the resume has 400 less that left
 assert fit["max_evaluations"] == 400 - spent, (fit["max_evaluations"], spent)
 assert fit["resumed"]["evaluations"] == spent, fit["resumed"]
 assert spent < again <= spent + fit["evaluations"], (spent, again, fit["evaluations"])
-assert ("%d evaluations spent; %d evaluations left" % (spent, 400 - spent)) in open(sys.argv[3]).read()
+err = open(sys.argv[3]).read()
+assert ("%d evaluations spent; %d evaluations left" % (spent, 400 - spent)) in err
+# the checkpoint's presets of the two kinds go on (some of the front is of them)
+import re
+assert int(re.search(r"resuming from .*?: (\d+) presets", err).group(1)) > 0, err
 PY
 fi
 sed 's/"evaluations": [0-9]*/"evaluations": -3/' "$TMP/fit/checkpoint/checkpoint.json" >"$TMP/negev.json"

@@ -138,7 +138,8 @@ static void category_presets(void **state)
 
 /* Reaction-diffusion: a preset of the complex category, valid, plausible, loadable (on one
  * thread, no thread comparison: each candidate is a simulation; one preset, so a pool of 12
- * where two would draw at least 64; picks that differ are category_presets' check). */
+ * where two would draw at least 64; the picking, which every category shares, is
+ * category_presets' and layered_presets' to check). */
 static void complex_presets(void **state)
 {
     (void)state;
