@@ -26,8 +26,10 @@ kind's best for the wrong rows, and their rank comes from fit.json's category_sc
 
 With --fidelity nothing is fitted: each truth is scored against its own photo at its true
 view scale (`squama score --view`), which says how well the objectives can recognise the
-right answer at all (0 = the photo's statistics exactly). Ends with:
-RESULT fidelity n=... palette=... histogram=... shape=... along=... across=... (means)
+right answer at all (0 = the photo's statistics exactly), its textures rendered at
+--fidelity-size (default 256, as the fit's re-scoring; the search renders at 128, and fine
+scale grids shade unlike their photos there: docs/recovery.md, session 45). Ends with:
+RESULT fidelity n=... size=... palette=... histogram=... shape=... along=... across=... (means)
 
 With --niche KIND each truth of that kind (or the --rows given) is fitted with KIND alone
 (`squama fit --categories KIND`, --evals or 1500), and the fit's score is divided by the
@@ -210,8 +212,8 @@ def truth_score(row):
 
 
 def fidelity(args, i, cat, photo, mask, truth, view_t):
-    out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--view", "%.6f" % view_t, "--json", truth],
-                         capture_output=True, text=True)
+    out = subprocess.run([args.squama, "score", photo, "--mask", mask, "--view", "%.6f" % view_t,
+                          "--size", str(args.fidelity_size), "--json", truth], capture_output=True, text=True)
     if out.returncode != 0:
         sys.exit("recovery: score failed: " + out.stderr)
     o = json.loads(out.stdout)[0]["objectives"]
@@ -219,9 +221,10 @@ def fidelity(args, i, cat, photo, mask, truth, view_t):
     return {"i": i, "category": cat, "objectives": o}
 
 
-def fidelity_table(rows):
+def fidelity_table(rows, size):
     keys = OBJECTIVES
-    print("\nfidelity: each truth scored against its own photo at its true view scale (lower is better)")
+    print("\nfidelity: each truth scored against its own photo at its true view scale, rendered at %d "
+          "(lower is better)" % size)
     print("%-14s %3s " % ("category", "n") + " ".join("%10s" % k for k in keys))
     for cat in CATEGORIES + ["all"]:
         rs = [r for r in rows if cat in ("all", r["category"])]
@@ -229,8 +232,8 @@ def fidelity_table(rows):
             print("%-14s %3d " % (cat, len(rs)) + " ".join("%10.3f" % statistics.mean(r["objectives"][k] for r in rs)
                                                         for k in keys))
     if not rows:
-        return print("\nRESULT fidelity n=0")
-    print("\nRESULT fidelity n=%d " % len(rows) + " ".join("%s=%.3f" % (k, statistics.mean(r["objectives"][k] for r in rows))
+        return print("\nRESULT fidelity n=0 size=%d" % size)
+    print("\nRESULT fidelity n=%d size=%d " % (len(rows), size) + " ".join("%s=%.3f" % (k, statistics.mean(r["objectives"][k] for r in rows))
                                                        for k in keys))
 
 
@@ -264,6 +267,8 @@ def main():
     ap.add_argument("--out", default="build-bench/recovery")
     ap.add_argument("--fidelity", action="store_true",
                     help="score each truth against its own photo instead of fitting")
+    ap.add_argument("--fidelity-size", type=int, default=256,
+                    help="--fidelity: the truths' texture size (default 256; the search's is 128)")
     ap.add_argument("--niche", choices=CATEGORIES,
                     help="fit each truth of this kind with that kind alone (--evals, default %d) and "
                          "print the fit's score over the truth's reseeded score (other rows with --rows)"
@@ -332,7 +337,7 @@ def main():
               file=sys.stderr, flush=True)
 
     if args.fidelity:
-        return fidelity_table(rows)
+        return fidelity_table(rows, args.fidelity_size)
     if args.niche:
         return niche_table(args, rows)
     how = "--evals %d" % args.evals if args.evals else "--budget %s" % args.budget
