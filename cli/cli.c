@@ -117,8 +117,8 @@ static void folder_of(const char *path, char *dir, size_t n)
 static void warn_leftovers(const CliStaging *s, const char *pattern)
 {
     const char *slash = strrchr(pattern, '/'), *base = slash ? slash + 1 : pattern;
-    const char *own = strrchr(s->dir, '/') ? strrchr(s->dir, '/') + 1 : s->dir;
-    const size_t k = strlen(base) > 6 ? strlen(base) - 6 : 0; /* without XXXXXX */
+    const char *own_slash = strrchr(s->dir, '/'), *own = own_slash ? own_slash + 1 : s->dir;
+    const size_t len = strlen(base), k = len > 6 ? len - 6 : 0; /* without XXXXXX */
     const int lead = slash ? (int)(slash - pattern) + 1 : 0; /* the folder, as given, with its slash */
     char dir[4096], path[8400];
     folder_of(pattern, dir, sizeof dir);
@@ -298,17 +298,20 @@ static void staged_paths(const CliStaging *s, int i, char *from, char *old, char
     snprintf(to, 4200, "%s/%s", s->outdir, s->files[i].name);
 }
 
-int cli_signal_waits(int sig)
+/* 1 when the program is now ending (no commit under way, none to start from now on) */
+static int dying(void)
 {
     int was = IDLE;
-    if (atomic_compare_exchange_strong(&program_state, &was, DYING) || was == DYING)
-        return 0; /* no commit starts now */
+    return atomic_compare_exchange_strong(&program_state, &was, DYING) || was == DYING;
+}
+
+int cli_signal_waits(int sig)
+{
+    if (dying())
+        return 0;
     atomic_store(&held_signal, sig);
     /* a commit that ended meanwhile may have looked already: the signal goes on here */
-    was = IDLE;
-    if (atomic_compare_exchange_strong(&program_state, &was, DYING) || was == DYING)
-        return 0;
-    return 1;
+    return !dying();
 }
 
 /* err for a rename to `to` that failed with errno e: "cannot VERB WHAT TAIL: why" */
