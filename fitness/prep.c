@@ -716,12 +716,24 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
  * BLEND rows, as round a bend (a sudden turn would draw a seam across the candidate's
  * strip that no photo has). tangent: the rows' unit tangent in the photo (x NAN between
  * runs). */
+/* The elevation's part of the light of estimate_light (the key light's: 50 degrees up). */
+static const double LIGHT_UP = 0.758;
+
+/* The light in the strip's frame (across, up the texture, out; not unit) of a row whose
+ * body heads along the unit (tx, ty) in the photo, the light's in-plane part (lx, ly). */
+static void row_light(double lx, double ly, double tx, double ty, double L[3])
+{
+    L[0] = lx * -ty + ly * tx; /* across: the columns' way */
+    L[1] = -(lx * tx + ly * ty); /* up the texture: against the rows */
+    L[2] = LIGHT_UP;
+}
+
 static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
                            float light_xy[2])
 {
     enum { W = SQ_FIT_STRIP_W };
     /* the tilt of squama photo's key light straight across (its full in-plane part) */
-    static const float FULL_TILT = 0.65f, IN_PLANE = 0.652f, UP = 0.758f;
+    static const float FULL_TILT = 0.65f, IN_PLANE = 0.652f;
     const int n = strip->height;
     memset(light, 0, sizeof *light);
     float *tilt = malloc(sizeof(float) * (size_t)n);
@@ -792,11 +804,10 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
         const double a0 = atan2(tangent[along[i0]][1], tangent[along[i0]][0]);
         const double a1 = atan2(tangent[along[i1]][1], tangent[along[i1]][0]);
         const double ang = a0 + t * remainder(a1 - a0, 2 * M_PI); /* the shorter way round */
-        const double tx = cos(ang), ty = sin(ang);
-        double *o = acc[r / SQ_FIT_LIGHT_STEP];
-        o[0] += lx * -ty + ly * tx; /* across: the columns' way */
-        o[1] -= lx * tx + ly * ty;  /* up the texture: against the rows */
-        o[2] += UP;
+        double L[3], *o = acc[r / SQ_FIT_LIGHT_STEP];
+        row_light(lx, ly, cos(ang), sin(ang), L);
+        for (int k2 = 0; k2 < 3; k2++)
+            o[k2] += L[k2];
     }
     free(along);
     light->rows = (used + SQ_FIT_LIGHT_STEP - 1) / SQ_FIT_LIGHT_STEP;
@@ -805,6 +816,57 @@ static void estimate_light(const SqImage *strip, const SqImage *valid, float (*t
         for (int k2 = 0; k2 < 3; k2++)
             light->dir[i][k2] = (float)(acc[i][k2] / len);
     }
+}
+
+/* A candidate's strip is lit row by row by the photo's light as it turns along the body,
+ * and has each row's departure of the smooth body's shading from its mean over the rows
+ * divided out exactly (sq_fit_candidate_strip). The photo's strip gets the same here, from
+ * the same light at each row's own heading (the key light of estimate_light: light_xy
+ * in the photo's plane), before sq__fit_normalise_light, whose smoothing over a strip
+ * width follows a bend's light only in part. Without it, what a bend leaves of its
+ * light (periods of two to four body widths along) counted as pattern that only a
+ * wrong candidate could match: on a plain skin on a coiled body, the strip's lightness
+ * varied twice as much along the body as the truth's own candidate. Rows between runs
+ * (tangent NAN) stay. Nothing when no light was found (a candidate's light does not
+ * turn either). */
+static void divide_turning_light(SqImage *strip, float (*tangent)[2], const SqLight *light,
+                                 const float light_xy[2])
+{
+    enum { W = SQ_FIT_STRIP_W };
+    const int n = strip->height;
+    if (light->rows <= 1)
+        return;
+    float cyl[W][2];
+    for (int i = 0; i < W; i++)
+        sq__fit_column_angle(i, cyl[i]);
+    float *shade = malloc(sizeof(float) * (size_t)n * W);
+    if (!shade)
+        return; /* out of memory: the turning stays, as it always did */
+    double mean[W] = {0};
+    int m = 0;
+    for (int y = 0; y < n; y++) {
+        if (!isfinite(tangent[y][0]))
+            continue;
+        double l[3];
+        row_light(light_xy[0], light_xy[1], tangent[y][0], tangent[y][1], l);
+        const double ll = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        const float L[3] = {(float)(l[0] / ll), (float)(l[1] / ll), (float)(l[2] / ll)};
+        for (int i = 0; i < W; i++)
+            mean[i] += shade[(size_t)y * W + i] = sq__fit_smooth_shade(cyl[i], L);
+        m++;
+    }
+    sq__lab_init();
+    for (int y = 0; y < n && m > 0; y++) {
+        if (!isfinite(tangent[y][0]))
+            continue;
+        for (int i = 0; i < W; i++) {
+            const float k = (float)(mean[i] / m) / shade[(size_t)y * W + i];
+            float *p = strip->px + 3 * ((size_t)y * W + i);
+            for (int c = 0; c < 3; c++)
+                p[c] = sq__linear_to_srgb_lut(sq__srgb_to_linear_lut(p[c]) * k);
+        }
+    }
+    free(shade);
 }
 
 /* One run of the centre line made ready to straighten: smoothed, moved between the
@@ -1586,6 +1648,7 @@ SqStatus sq_fit_prepare(const SqImage *photo, const SqImage *mask_in, const SqPr
     }
     debug_save(&o, "5_strip_raw.png", &out->strip);
     estimate_light(&out->strip, &out->valid, tangent, &out->light, out->light_xy);
+    divide_turning_light(&out->strip, tangent, &out->light, out->light_xy);
     /* the light of each stretch on its own: another part of the body lies another way */
     for (int k = 0, row0 = 0; k < ncurves; k++) {
         SqImage sv = out->strip, vv = out->valid;

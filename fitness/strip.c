@@ -45,20 +45,6 @@ static void light_at(const SqLight *light, int j, float L[3], float H[3])
         H[k] /= hl;
 }
 
-/* The diffuse shading of squama photo's body: ambient, Lambert, and a darkening towards
- * the sides (cs: the cosine of the column's angle round the body). */
-static inline float shade_of(float diff, float cs)
-{
-    return (0.30f + 0.85f * (diff > 0 ? diff : 0)) * (0.75f + 0.25f * cs);
-}
-
-/* The shading of the smooth body (the cylinder's own normal) in a column at angle
- * (sin, cos) = cyl, under the unit light L. */
-static float smooth_shade(const float cyl[2], const float L[3])
-{
-    return shade_of(cyl[0] * L[0] + cyl[1] * L[2], cyl[1]);
-}
-
 SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                                 const SqImage *roughness, const SqLight *light, double view_scale,
                                 double band_centre, int length, SqImage *strip, SqError *err)
@@ -100,11 +86,8 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     }
     /* the cylinder: column i looks at angle theta (the photo's strip is even in theta) */
     float cyl[SQ_FIT_STRIP_W][2];
-    for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
-        double th = M_PI * SQ_FIT_BAND_WIDTH * (2.0 * (i + 0.5) / SQ_FIT_STRIP_W - 1.0);
-        cyl[i][0] = (float)sin(th);
-        cyl[i][1] = (float)cos(th);
-    }
+    for (int i = 0; i < SQ_FIT_STRIP_W; i++)
+        sq__fit_column_angle(i, cyl[i]);
     /* The smooth body's shading (the cylinder without the relief) changes along the strip
      * as the light turns; the photo's strip has those changes divided out by its light
      * normalisation, smoothed over a strip width because it must see through the pattern.
@@ -123,7 +106,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
             float L[3], H[3];
             light_at(light, j, L, H);
             for (int i = 0; i < SQ_FIT_STRIP_W; i++)
-                sum[i] += smooth_shade(cyl[i], L);
+                sum[i] += sq__fit_smooth_shade(cyl[i], L);
         }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++)
             mean_shade[i] = (float)(sum[i] / length);
@@ -172,7 +155,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
                     float g = 1.0f - rr, spec = 0;
                     if (nh > 0.8f && g > 0) /* below, at most 0.01 for the roughest skins */
                         spec = 0.35f * g * g * powf(nh, 2.0f + 300.0f * g * g * g);
-                    float shade = shade_of(diff, cs);
+                    float shade = sq__fit_shade(diff, cs);
                     for (int k = 0; k < 3; k++)
                         acc[i][k] += sq__srgb_to_linear_lut(o[k]) * shade + spec;
                 } else { /* base colour only: averaged in linear light too */
@@ -183,7 +166,7 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
         }
         for (int i = 0; i < SQ_FIT_STRIP_W; i++) {
             float *o = sq_image_at(strip, i, j);
-            const float k0 = turns ? mean_shade[i] / smooth_shade(cyl[i], L) : 1.0f;
+            const float k0 = turns ? mean_shade[i] / sq__fit_smooth_shade(cyl[i], L) : 1.0f;
             for (int k = 0; k < 3; k++)
                 o[k] = sq__linear_to_srgb_lut(acc[i][k] * inv_n * k0);
         }
