@@ -17,7 +17,7 @@
 SqPhotoOptions sq_fit_photo_options_default(void)
 {
     SqPhotoOptions o = {.width = 1024, .height = 768, .seed = 1, .band_centre = 0.5, .coil = 0.5,
-                        .texture_size = 512};
+                        .texture_size = 512, .samples = 4};
     return o;
 }
 
@@ -304,6 +304,55 @@ static int backdrop(const SqPhotoOptions *o, SqBackdrop kind, float *rgb)
     return 0;
 }
 
+/* squama photo's key light (from the upper left) and its half vector towards a camera
+ * straight above, both unit. */
+typedef struct Light {
+    double L[3], H[3];
+} Light;
+
+static Light key_light(void)
+{
+    const double lx = -0.35, ly = -0.55, lz = 0.76, ln = sqrt(lx * lx + ly * ly + lz * lz);
+    Light l = {.L = {lx / ln, ly / ln, lz / ln}};
+    const double hz = l.L[2] + 1, hn = sqrt(l.L[0] * l.L[0] + l.L[1] * l.L[1] + hz * hz);
+    l.H[0] = l.L[0] / hn;
+    l.H[1] = l.L[1] / hn;
+    l.H[2] = hz / hn;
+    return l;
+}
+
+/* The lit colour (linear RGB) of the body at arc length s (pixels along the curve,
+ * heading (tx, ty)) and sn = signed distance across / radius: the glossy tube that
+ * candidates' strips imitate (fitness/strip.c). tile: pixels along the body one
+ * texture tile spans. */
+static void lit_point(const SqTextures *maps, const Light *light, double tx, double ty, double s, double sn,
+                      double band_centre, double tile, double lit[3])
+{
+    sn = fmax(-0.999, fmin(0.999, sn));
+    const double th = asin(sn), cs = cos(th);
+    const double u = band_centre + th / (2 * M_PI), v = s / tile;
+    float base[3], nm[3], rough;
+    tex(&maps->basecolor, u, v, base);
+    tex(&maps->normal, u, v, nm);
+    tex(&maps->roughness, u, v, &rough);
+    /* frame: across (+u), along (+v), out of the surface */
+    const double Nx = -ty, Ny = tx;
+    const double eu[3] = {Nx * cs, Ny * cs, -sn}, ev[3] = {tx, ty, 0}, n0[3] = {Nx * sn, Ny * sn, cs};
+    const double tn[3] = {2 * nm[0] - 1.0, 2 * nm[1] - 1.0, 2 * nm[2] - 1.0};
+    double n[3];
+    for (int k = 0; k < 3; k++) /* OpenGL: +Y points to -v */
+        n[k] = tn[0] * eu[k] - tn[1] * ev[k] + tn[2] * n0[k];
+    const double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++)
+        n[k] /= nl;
+    const double diff = fmax(0, n[0] * light->L[0] + n[1] * light->L[1] + n[2] * light->L[2]);
+    const double gl = 1 - rough, nh = fmax(0, n[0] * light->H[0] + n[1] * light->H[1] + n[2] * light->H[2]);
+    const double spec = 0.35 * gl * gl * pow(nh, 2 + 300 * gl * gl * gl);
+    const double ao = 0.75 + 0.25 * cs;
+    for (int k = 0; k < 3; k++)
+        lit[k] = srgb_lin(base[k]) * (0.30 + 0.85 * diff) * ao + spec;
+}
+
 SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *opt, SqImage *photo,
                             SqImage *mask, SqPhotoTruth *truth, SqError *err)
 {
@@ -317,6 +366,8 @@ SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *opt, SqImag
                             o.width, o.height);
     if (o.texture_size <= 0)
         o.texture_size = 512;
+    if (o.samples < 1 || o.samples > 16)
+        return sq_error_set(err, SQ_ERR_INVALID, "photo", "%d samples a pixel is outside 1 to 16", o.samples);
     const uint64_t seed = o.seed;
     const int w = o.width, h = o.height, side = w < h ? w : h;
     double r = o.body_radius > 0 ? o.body_radius
@@ -366,12 +417,7 @@ SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *opt, SqImag
     }
 
     /* the lit body */
-    const double lx = -0.35, ly = -0.55, lz = 0.76, ln = sqrt(lx * lx + ly * ly + lz * lz);
-    const double L[3] = {lx / ln, ly / ln, lz / ln};
-    double H[3] = {L[0], L[1], L[2] + 1};
-    double hn = sqrt(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]);
-    for (int k = 0; k < 3; k++)
-        H[k] /= hn;
+    const Light light = key_light();
     const double circ = 2 * M_PI * r;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
@@ -384,28 +430,26 @@ SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *opt, SqImag
             float alpha = sq__clamp01((float)rs - fabsf(ow->d) + 0.5f);
             if (alpha <= 0 || rs < 0.5)
                 continue;
-            double s = ow->s + ow->a; /* arc length at the pixel */
-            double sn = fmax(-0.999, fmin(0.999, ow->d / rs)), th = asin(sn), cs = cos(th);
-            double u = o.band_centre + th / (2 * M_PI), v = s / (scale * circ);
-            float base[3], nm[3], rough;
-            tex(&maps.basecolor, u, v, base);
-            tex(&maps.normal, u, v, nm);
-            tex(&maps.roughness, u, v, &rough);
-            /* frame: across (+u), along (+v), out of the surface */
-            double Nx = -c.ty[si], Ny = c.tx[si];
-            double eu[3] = {Nx * cs, Ny * cs, -sn}, ev[3] = {c.tx[si], c.ty[si], 0}, n0[3] = {Nx * sn, Ny * sn, cs};
-            double tn[3] = {2 * nm[0] - 1.0, 2 * nm[1] - 1.0, 2 * nm[2] - 1.0}, n[3];
-            for (int k = 0; k < 3; k++) /* OpenGL: +Y points to -v */
-                n[k] = tn[0] * eu[k] - tn[1] * ev[k] + tn[2] * n0[k];
-            double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            for (int k = 0; k < 3; k++)
-                n[k] /= nl;
-            double diff = fmax(0, n[0] * L[0] + n[1] * L[1] + n[2] * L[2]);
-            double gl = 1 - rough, nh = fmax(0, n[0] * H[0] + n[1] * H[1] + n[2] * H[2]);
-            double spec = 0.35 * gl * gl * pow(nh, 2 + 300 * gl * gl * gl);
-            double ao = 0.75 + 0.25 * cs;
+            /* A camera pixel is the mean of the skin it sees: o.samples x o.samples
+             * points over the pixel, each moved across and along the body from the
+             * pixel's centre (the curve's tangent there), lit and summed in linear light.
+             * One point a pixel (at a view scale of 0.66 and a 512 texture, four texels
+             * along the body between pixels) aliased the scales' fine relief into a
+             * crisp shimmer no camera shows, which the candidates' strips, each pixel
+             * the mean of the skin it covers, could not match. */
+            const double tx = c.tx[si], ty = c.ty[si];
+            double acc[3] = {0, 0, 0};
+            for (int sy = 0; sy < o.samples; sy++)
+                for (int sx = 0; sx < o.samples; sx++) {
+                    const double ox = (sx + 0.5) / o.samples - 0.5, oy = (sy + 0.5) / o.samples - 0.5;
+                    double lit[3];
+                    lit_point(&maps, &light, tx, ty, ow->s + ((double)ow->a + ox * tx + oy * ty),
+                              (ow->d - ox * ty + oy * tx) / rs, o.band_centre, scale * circ, lit);
+                    for (int k = 0; k < 3; k++)
+                        acc[k] += lit[k];
+                }
             for (int k = 0; k < 3; k++) {
-                double lit = srgb_lin(base[k]) * (0.30 + 0.85 * diff) * ao + spec;
+                const double lit = acc[k] / (o.samples * o.samples);
                 rgb[3 * i + k] = (float)(lit * alpha + rgb[3 * i + k] * (1 - alpha));
             }
             cover[i] = alpha;

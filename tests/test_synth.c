@@ -2,6 +2,7 @@
  * preset's colours, the truth describes what was drawn. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "sq_test.h"
 #include "squama/fitness.h"
@@ -106,6 +107,71 @@ static void degradations_change_the_photo(void **state)
     sq_image_free(&m);
 }
 
+/* The mean absolute difference (sRGB) of two photos over the pixels wholly inside the
+ * body of mask m (the outline's pixels mix in the backdrop by coverage). */
+static double body_difference(const SqImage *a, const SqImage *b, const SqImage *m, long *n)
+{
+    double d = 0;
+    *n = 0;
+    for (int y = 1; y < m->height - 1; y++)
+        for (int x = 1; x < m->width - 1; x++) {
+            int inside = 1;
+            for (int j = -1; j <= 1; j++)
+                for (int i = -1; i <= 1; i++)
+                    inside &= m->px[(y + j) * m->width + x + i] > 0.5f;
+            if (!inside)
+                continue;
+            for (int k = 0; k < 3; k++)
+                d += fabsf(a->px[3 * (y * m->width + x) + k] - b->px[3 * (y * m->width + x) + k]);
+            ++*n;
+        }
+    return *n ? d / (3.0 * *n) : 0;
+}
+
+/* A photo's pixel is the mean of the skin it covers, as a camera's is: on a fine scale
+ * grid seen small (15 x 52 scales, a scale about 2.5 pixels along the body), the photo
+ * at its default 4 x 4 points a pixel is close to the same photo at 16 x 16, and one
+ * point a pixel (how photos were made before) is not: it aliases the scales' relief
+ * into a crisp shimmer. */
+static void pixels_are_the_mean_of_the_skin(void **state)
+{
+    (void)state;
+    SqParams p;
+    sq_params_default(&p);
+    p.Scales_XAmount = 15;
+    p.Scales_YAmount = 52;
+    SqPhotoOptions o = sq_fit_photo_options_default();
+    o.width = 320;
+    o.height = 240;
+    o.seed = 8;
+    o.body_radius = 12;
+    o.view_scale = 0.66;
+    o.backdrop = SQ_BACKDROP_PLAIN;
+    SqImage photo[3], mask[3];
+    const int samples[3] = {16, 4, 1};
+    SqError err;
+    for (int k = 0; k < 3; k++) {
+        o.samples = samples[k];
+        assert_int_equal(sq_fit_synth_photo(&p, &o, &photo[k], &mask[k], NULL, &err), SQ_OK);
+    }
+    long n;
+    const double d4 = body_difference(&photo[1], &photo[0], &mask[0], &n);
+    const double d1 = body_difference(&photo[2], &photo[0], &mask[0], &n);
+    print_message("  %ld pixels inside the body, off the mean of 16 x 16 points: %.4f at 4 x 4, %.4f at one\n", n,
+                  d4, d1);
+    assert_true(n > 1000);
+    assert_true(d4 < 0.01);
+    assert_true(d1 > 3 * d4);
+    for (int k = 0; k < 3; k++) {
+        sq_image_free(&photo[k]);
+        sq_image_free(&mask[k]);
+    }
+    o.samples = 0;
+    assert_int_equal(sq_fit_synth_photo(&p, &o, &photo[0], &mask[0], NULL, &err), SQ_ERR_INVALID);
+    assert_non_null(strstr(err.what, "0 samples a pixel"));
+    assert_null(photo[0].px);
+}
+
 /* The body lies wholly in the frame, as a photographer would frame it: no part of it is cut
  * off by an edge, whatever the seed, radius and coiling (the benchmark's ranges). */
 static void the_whole_body_stays_in_the_frame(void **state)
@@ -172,6 +238,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(photo_of_a_plain_red_snake),
         cmocka_unit_test(degradations_change_the_photo),
+        cmocka_unit_test(pixels_are_the_mean_of_the_skin),
         cmocka_unit_test(the_whole_body_stays_in_the_frame),
         cmocka_unit_test(refusals),
     };

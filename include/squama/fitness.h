@@ -264,6 +264,8 @@ typedef struct SqPhotoOptions {
     double noise;         /* sensor noise, sigma in [0,1] units */
     double cast;          /* colour cast strength, 0..1 */
     int texture_size;     /* the preset's maps are rendered this big (default 512) */
+    int samples;          /* points a pixel sees of the skin, per direction, averaged as a
+                             camera's pixel does (default 4; 1 to 16) */
     int preview;          /* 1: a gentle S across the frame on a plain backdrop */
 } SqPhotoOptions;
 
