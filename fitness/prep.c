@@ -700,6 +700,18 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
     free(tf);
 }
 
+/* The elevation's part of the light of estimate_light (the key light's: 50 degrees up). */
+static const double LIGHT_UP = 0.758f; /* as it always was, in float */
+
+/* The light in the strip's frame (across, up the texture, out; not unit) of a row whose
+ * body heads along the unit (tx, ty) in the photo, the light's in-plane part (lx, ly). */
+static void row_light(double lx, double ly, double tx, double ty, double L[3])
+{
+    L[0] = lx * -ty + ly * tx; /* across: the columns' way */
+    L[1] = -(lx * tx + ly * ty); /* up the texture: against the rows */
+    L[2] = LIGHT_UP;
+}
+
 /* The light from the shading: the log luminance of a lit round body slopes across it
  * as the light's component across the body (a left-right tilt), and as the body turns
  * that component follows the light's direction in the photo. One light fixed in the
@@ -716,18 +728,6 @@ void sq__fit_normalise_light(SqImage *strip, const SqImage *valid)
  * BLEND rows, as round a bend (a sudden turn would draw a seam across the candidate's
  * strip that no photo has). tangent: the rows' unit tangent in the photo (x NAN between
  * runs). */
-/* The elevation's part of the light of estimate_light (the key light's: 50 degrees up). */
-static const double LIGHT_UP = 0.758;
-
-/* The light in the strip's frame (across, up the texture, out; not unit) of a row whose
- * body heads along the unit (tx, ty) in the photo, the light's in-plane part (lx, ly). */
-static void row_light(double lx, double ly, double tx, double ty, double L[3])
-{
-    L[0] = lx * -ty + ly * tx; /* across: the columns' way */
-    L[1] = -(lx * tx + ly * ty); /* up the texture: against the rows */
-    L[2] = LIGHT_UP;
-}
-
 static void estimate_light(const SqImage *strip, const SqImage *valid, float (*tangent)[2], SqLight *light,
                            float light_xy[2])
 {
