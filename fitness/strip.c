@@ -89,15 +89,14 @@ SqStatus sq_fit_candidate_strip(const SqImage *basecolor, const SqImage *normal,
     for (int i = 0; i < SQ_FIT_STRIP_W; i++)
         sq__fit_column_angle(i, cyl[i]);
     /* The smooth body's shading (the cylinder without the relief) changes along the strip
-     * as the light turns; the photo's strip has those changes divided out by its light
-     * normalisation, smoothed over a strip width because it must see through the pattern.
-     * A candidate's light turns faster than that where the pieces of the photo's light
-     * join (a 60-degree swing of the shading's tilt over 24 rows, say), which the same
-     * normalisation leaves as dark and bright blocks no photo has. So each row's departure
-     * of that shading from its mean over the rows is divided out here, exactly (the
-     * highlights with it, as the photo's normalisation divides its own); the mean across
-     * profile stays for the normalisation below, as in the photo. A light that does not
-     * turn (the key light, or one row) leaves the strip as it was, bit for bit. */
+     * as the light turns. Each row's departure of that shading from its mean over the
+     * rows is divided out here, exactly (the highlights with it), as the photo's strip has
+     * its own divided out row by row before its normalisation (divide_turning_light,
+     * prep.c); the light normalisation alone, smoothed over a strip width, would leave
+     * dark and bright blocks where the pieces of the photo's light join (a 60-degree swing
+     * of the shading's tilt over 24 rows, say). The mean across profile stays for the
+     * normalisation below, as in the photo. A light that does not turn (the key light, or
+     * one row) leaves the strip as it was, bit for bit. */
     const int turns = normal && light && light->rows > 1;
     float mean_shade[SQ_FIT_STRIP_W];
     if (turns) {
