@@ -2,7 +2,9 @@
 """The recovery benchmark: ground-truth presets of every category squama can fit, each
 turned into a synthetic photo (`squama photo`: varied curve, view scale, light, backdrop,
 blur, noise, colour cast), fitted with `squama fit` (with the photo's true mask: this
-measures the fit, not the masking), and compared with the truth in texture space by
+measures the fit, not the masking; its starting presets the shipped complex and layered
+ones but the truth's own base, which would start it next to the answer), and compared
+with the truth in texture space by
 bench_recovery. The same photos are fitted by nlopt's global optimisers and by random
 search with squama's own evaluation count.
 
@@ -76,6 +78,7 @@ def category_of(i):
         return "complex", i - SIMPLE_ROWS
     return "layered", i - SIMPLE_ROWS - COMPLEX_ROWS
 BASELINES = ["random", "esch", "crs2", "isres"]
+STARTS = ["../complex", "../layered"]  # squama fit's default starting presets, relative to --presets
 
 
 def run(cmd, log):
@@ -85,9 +88,28 @@ def run(cmd, log):
         sys.exit("recovery: %s failed (exit %d), see %s" % (" ".join(cmd[:2]), r.returncode, log))
 
 
-def fit(args, photo, mask, out, extra):
+def starts_without(args, base, d):
+    """`squama fit`'s starting presets (the shipped complex and layered ones) but the
+    truth's own base, as a folder of links in d: a truth is its base with every gene moved
+    a little, so starting from the base would start next to the answer; the other presets
+    stand for the library of known species a photo of a new one is fitted with. (A folder,
+    as the default's are: squama skips the presets in it that the fit cannot search.)"""
+    out = os.path.join(d, "starts")
+    os.makedirs(out, exist_ok=True)
+    for folder in STARTS:
+        src = os.path.join(args.presets, folder)
+        for name in sorted(os.listdir(src)):
+            path = os.path.realpath(os.path.join(src, name))
+            link = os.path.join(out, os.path.basename(folder) + "_" + name)
+            if name.endswith(".json") and path != os.path.realpath(base) and not os.path.lexists(link):
+                os.symlink(path, link)
+    return ["--start", out]
+
+
+def fit(args, photo, mask, out, extra, base):
     """A fit, kept for a rerun only when the same command (program, budget) made it."""
     cmd = [args.squama, "fit", photo, "--mask", mask, "-o", out, "--seed", str(args.seed), "--size", "256", "-q"]
+    cmd += starts_without(args, base, os.path.dirname(out))
     if args.threads:
         cmd += ["-j", str(args.threads)]
     cmd += extra
@@ -148,14 +170,14 @@ def truth_reseeded(args, photo, mask, truth, norm, out_dir, view=None):
     return statistics.mean(sum(e["objectives"][k] / norm[k] for k in OBJECTIVES) for e in json.loads(out.stdout))
 
 
-def niche_row(args, i, cat, d, photo, mask, truth, view_t):
+def niche_row(args, i, cat, d, photo, mask, truth, view_t, base):
     """--niche: the truth's photo fitted with the truth's kind alone (`--categories KIND`),
     and the fit's score over the truth's mean over RESEEDS other seeds at its true view
     scale, both under the fit's norms: how near the kind's own search comes to what is
     reachable (1 = as near as another instance of the true pattern; docs/recovery.md,
     session 32). Kept in DIR/niche_KIND and skipped on a rerun as a fit is."""
     out = os.path.join(d, "niche_" + args.niche)
-    sq = fit(args, photo, mask, out, ["--evals", str(args.evals or NICHE_EVALS), "--categories", args.niche])
+    sq = fit(args, photo, mask, out, ["--evals", str(args.evals or NICHE_EVALS), "--categories", args.niche], base)
     t = truth_reseeded(args, photo, mask, truth, sq["norm"], out, view_t)
     row = {"i": i, "category": cat, "fit": sq["score"], "truth": t, "ratio": sq["score"] / t,
            "view_t": view_t, "view_f": sq["view_scale"]}
@@ -304,10 +326,10 @@ def main():
             rows.append(fidelity(args, i, cat, photo, mask, truth, view_t))
             continue
         if args.niche:
-            rows.append(niche_row(args, i, cat, d, photo, mask, truth, view_t))
+            rows.append(niche_row(args, i, cat, d, photo, mask, truth, view_t, base))
             continue
         sq = fit(args, photo, mask, os.path.join(d, "squama"),
-                 ["--evals", str(args.evals)] if args.evals else ["--budget", args.budget])
+                 ["--evals", str(args.evals)] if args.evals else ["--budget", args.budget], base)
         sq["dir"] = os.path.join(d, "squama")
         norm = sq["norm"]
         row = {"i": i, "category": cat, "fitted": sq["category"], "score": sq["score"],
@@ -321,7 +343,7 @@ def main():
         row["baselines"] = {}
         if args.baseline_every and i % args.baseline_every == 0:
             for m in BASELINES:
-                b = fit(args, photo, mask, os.path.join(d, m), ["--method", m, "--evals", str(row["evals"])])
+                b = fit(args, photo, mask, os.path.join(d, m), ["--method", m, "--evals", str(row["evals"])], base)
                 b["dir"] = os.path.join(d, m)
                 c = compare(args, truth, view_t, b, photo, mask, norm)
                 row["baselines"][m] = {"score": b["score"], "ratio": c["ratio"], "category": b["category"]}

@@ -58,8 +58,10 @@ static SqStatus strips_thumbnail(const char *dir, SqError *err)
 void batch_settings(const CliFitJob *job, char *out, size_t n)
 {
     const SqFitOptions *o = &job->fo;
-    snprintf(out, n, "budget=%g evals=%ld seed=%llu categories=%u size=%d work-size=%d", o->budget,
-             o->max_evals, (unsigned long long)o->seed, o->categories, job->size, job->po.work_size);
+    int k = snprintf(out, n, "budget=%g evals=%ld seed=%llu categories=%u size=%d work-size=%d", o->budget,
+                     o->max_evals, (unsigned long long)o->seed, o->categories, job->size, job->po.work_size);
+    if (job->starts.n > 0 && k >= 0 && (size_t)k < n) /* the starting presets, by their contents */
+        snprintf(out + k, n - (size_t)k, " starts=%d:%016llx", job->starts.n, (unsigned long long)job->starts.digest);
 }
 
 /* DIR/<id>/done.json: the row and its outcome, everything the catalogue needs, and what

@@ -50,7 +50,8 @@ static const char help[] =
     "fitted: those without a done.json, those that failed, those whose photo, mask or line changed\n"
     "(by content: moving them, or spelling the manifest's path otherwise, changes nothing) and\n"
     "those fitted with other settings (--budget, --evals, --seed, --categories, --size,\n"
-    "--work-size). A done.json from before squama recorded these is matched by the paths.\n"
+    "--work-size, the starting presets' contents). A done.json from before squama recorded\n"
+    "these is matched by the paths.\n"
     "\n";
 static const char help_more[] =
     "Parallel work:\n"
@@ -77,6 +78,8 @@ static const char help_more[] =
     "      --size N         size of the written maps (default 1024)\n"
     "      --categories L   only these pattern types, comma-separated (as fit)\n"
     "      --work-size N    longest side the photos are prepared at (default 1024)\n"
+    "      --start P        a starting preset or folder of them, repeatable (as fit)\n"
+    "      --no-starts      no starting presets (as fit)\n"
     "      --shard I/N      only every N-th row, from row I (see above)\n"
     "      --merge          the arguments are batch folders to join into OUT's catalogue\n"
     "  -q, --quiet          no progress and no summary\n"
@@ -504,11 +507,15 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
         if (s < 0)
             return CLI_USAGE;
     }
-    cli_fit_job_options_done(&b.job);
     const char *manifest = argv[optind];
     CliManifest m;
     if (cli_manifest_read(manifest, &m, &err) != SQ_OK)
         return cli_fail(&err);
+    int rc = cli_fit_job_options_done(&b.job, "batch");
+    if (rc != CLI_OK) {
+        cli_manifest_free(&m);
+        return rc;
+    }
 
     int cores = omp_get_num_procs();
     b.jobs = jobs;
@@ -520,7 +527,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
     b.results = calloc(m.nrows > 0 ? (size_t)m.nrows : 1, sizeof *b.results);
     b.mine = calloc(m.nrows > 0 ? (size_t)m.nrows : 1, 1);
     int *pending = calloc(m.nrows > 0 ? (size_t)m.nrows : 1, sizeof *pending);
-    int npending = 0, resumed = 0, rc = CLI_OK;
+    int npending = 0, resumed = 0;
     pthread_mutex_init(&b.lock, NULL);
     if (!b.results || !b.mine || !pending) {
         sq_error_set(&err, SQ_ERR_NOMEM, manifest, "out of memory");
@@ -589,6 +596,7 @@ static int run(int argc, char **argv, int rank, int size, int local_ranks)
     free(b.results);
     free(b.mine);
     cli_manifest_free(&m);
+    cli_fit_job_free(&b.job);
     return rc;
 }
 

@@ -69,6 +69,12 @@ static const char help[] =
     "                       layer searched over the champion), or all; default the six\n"
     "                       categories and a layer over the champion (no layered niche)\n"
     "      --work-size N    longest side the photo is prepared at (default 1024)\n"
+    "      --start P        a preset, or a folder of presets, the screening starts from\n"
+    "                       as well (repeatable): each of a kind fitted is screened at\n"
+    "                       the view scale that suits it, as it is and recoloured toward\n"
+    "                       the photo; default the shipped complex/ and layered/ presets\n"
+    "                       (reaction-diffusion is hard to find from random draws)\n"
+    "      --no-starts      no starting presets\n"
     "  -q, --quiet          no progress and no summary\n"
     "      --json           progress as JSON lines on stdout, then a summary object\n"
     "  -h, --help           show this help\n"
@@ -203,15 +209,19 @@ int cmd_fit(int argc, char **argv)
         return cli_usage("fit", "give one PHOTO");
     if (!job.outdir)
         return cli_usage("fit", "say where the results go with -o DIR");
-    cli_fit_job_options_done(&job);
+    int rc = cli_fit_job_options_done(&job, "fit");
+    if (rc != CLI_OK)
+        return rc;
     job.photo = argv[optind];
     SqError err;
     SqFitCandidate *seeds = NULL;
     if (resume) {
         double spent = 0;
         long spent_evals = 0;
-        if (load_checkpoint(resume, &seeds, &job.fo.nseeds, &spent, &spent_evals, &err) != 0)
+        if (load_checkpoint(resume, &seeds, &job.fo.nseeds, &spent, &spent_evals, &err) != 0) {
+            cli_fit_job_free(&job);
             return cli_fail(&err);
+        }
         if (job.fo.categories) { /* the checkpoint's presets of categories left out stay behind */
             int kept = 0;
             for (int i = 0; i < job.fo.nseeds; i++)
@@ -251,6 +261,7 @@ int cmd_fit(int argc, char **argv)
     SqStatus st = cli_fit_job_run(&job, &r, &err);
     sigaction(SIGINT, &old, NULL);
     free(seeds);
+    cli_fit_job_free(&job);
     if (st != SQ_OK)
         return cli_fail(&err);
     const char *outdir = job.outdir;

@@ -15,6 +15,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli.h"
+#include "fit_job.h"
 #include "json_util.h"
 #include "sheet.h"
 #include "squama/fitness.h"
@@ -42,9 +43,10 @@ static const char help[] =
     "  category and structure (automaton, reaction-diffusion system, layers) kept; of 4N\n"
     "  such variations, the N most different among the nearer half are kept, each with its\n"
     "  feature distance to PRESET (which grows with D; D itself is a step in the genes).\n"
-    "--from-photo PHOTO fits the generator to the photo (as 'squama fit') and writes its\n"
-    "  best preset, each other kind's best by score, then the rest of the fit's Pareto front\n"
-    "  (at most N of them), each with its distance to the photo.\n"
+    "--from-photo PHOTO fits the generator to the photo (as 'squama fit', from its default\n"
+    "  starting presets) and writes its best preset, each other kind's best by score, then\n"
+    "  the rest of the fit's Pareto front (at most N of them), each with its distance to the\n"
+    "  photo.\n"
     "\n"
     "DIR (new or empty) receives, all at once when everything is ready:\n"
     "  NN.json     the presets ('squama render' takes them as they are)\n"
@@ -510,12 +512,20 @@ int cmd_seed(int argc, char **argv)
             fo.front_max = so.n > 24 ? so.n : 24;
             fo.progress = on_fit_progress;
             fo.ctx = &px;
-            if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)
+            CliStarts starts = {0}; /* fit's default: the shipped complex and layered presets */
+            if (cli_starts_load(&starts, 1, &err) != SQ_OK) {
                 rc = cli_fail(&err);
-            else {
-                s.fit = &fit;
-                s.category = sq_fit_kind_of(&fit.best.params);
+            } else {
+                fo.starts = starts.params;
+                fo.nstarts = starts.n;
+                if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)
+                    rc = cli_fail(&err);
+                else {
+                    s.fit = &fit;
+                    s.category = sq_fit_kind_of(&fit.best.params);
+                }
             }
+            cli_starts_free(&starts);
         }
         sq_fit_prepared_free(&prep);
         cli_photo_free(&in);

@@ -138,7 +138,7 @@ typedef struct Clock {
 /* Every output into the staging folder s; write_outputs moves them into outdir as a set. */
 static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *photo_path, const char *mask_path,
                               const char *line_path, const CliPhoto *given, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
-                              const SqFitResult *r, int size, const Clock *clock, SqError *err)
+                              char *const *starts, const SqFitResult *r, int size, const Clock *clock, SqError *err)
 {
     char path[4200], file[64];
     SqStatus st = SQ_OK;
@@ -261,6 +261,11 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
     cJSON_AddNumberToObject(se, "search_budget_s", fo->budget); /* less the photo's and the outputs' */
     cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
     cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
+    cJSON *sa = cJSON_AddObjectToObject(se, "starts"); /* the starting presets */
+    cJSON *sp = cJSON_AddArrayToObject(sa, "presets");
+    for (int i = 0; i < fo->nstarts; i++)
+        cJSON_AddItemToArray(sp, cJSON_CreateString(starts[i]));
+    cJSON_AddNumberToObject(sa, "screened", r->starts_used); /* those of kinds fitted */
     if (clock->resumed_evals > 0 || clock->resumed_s > 0) { /* a resume: what the runs before it spent */
         cJSON *re = cJSON_AddObjectToObject(se, "resumed");
         cJSON_AddNumberToObject(re, "evaluations", (double)clock->resumed_evals);
@@ -434,7 +439,7 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
  * a failure or an interruption leaves an earlier fit's outputs whole, not some of each. */
 static SqStatus write_outputs(const char *outdir, const char *photo_path, const char *mask_path,
                               const char *line_path, const CliPhoto *given, const SqPrepared *prep, const SqFeatures *target, const SqFitOptions *fo,
-                              const SqFitResult *r, int size, const Clock *clock, SqError *err)
+                              char *const *starts, const SqFitResult *r, int size, const Clock *clock, SqError *err)
 {
     char pattern[4200];
     if (cli_pathf(pattern, sizeof pattern, "%s/.fit.tmp-XXXXXX", outdir) != 0)
@@ -443,7 +448,8 @@ static SqStatus write_outputs(const char *outdir, const char *photo_path, const 
     SqStatus st = cli_staging_open(&stg, pattern, outdir, 64, err);
     if (st != SQ_OK)
         return st;
-    st = stage_outputs(&stg, outdir, photo_path, mask_path, line_path, given, prep, target, fo, r, size, clock, err);
+    st = stage_outputs(&stg, outdir, photo_path, mask_path, line_path, given, prep, target, fo, starts, r, size, clock,
+                       err);
     if (st == SQ_OK)
         st = cli_staging_commit(&stg, 1, err);
     else
@@ -520,15 +526,40 @@ int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd)
             return cli_usage(cmd, "--categories needs at least one pattern type");
         return CLI_OK;
     }
+    case CLI_FITOPT_START:
+        if (job->starts.nargs == CLI_START_ARGS)
+            return cli_usage(cmd, "--start is given more than %d times: give a folder instead", CLI_START_ARGS);
+        job->starts.arg[job->starts.nargs++] = arg;
+        return CLI_OK;
+    case CLI_FITOPT_NO_STARTS:
+        job->starts.none = 1;
+        return CLI_OK;
     default:
         return -1;
     }
 }
 
-void cli_fit_job_options_done(CliFitJob *job)
+int cli_fit_job_options_done(CliFitJob *job, const char *cmd)
 {
     if (job->fo.max_evals > 0 && !job->budget_given)
         job->fo.budget = 0; /* an evaluation budget alone: deterministic */
+    if (job->starts.none && job->starts.nargs > 0)
+        return cli_usage(cmd, "--start and --no-starts contradict each other");
+    SqError err;
+    if (cli_starts_load(&job->starts, job->quiet, &err) != SQ_OK) {
+        cli_starts_free(&job->starts);
+        return cli_fail(&err);
+    }
+    job->fo.starts = job->starts.params;
+    job->fo.nstarts = job->starts.n;
+    return CLI_OK;
+}
+
+void cli_fit_job_free(CliFitJob *job)
+{
+    cli_starts_free(&job->starts);
+    job->fo.starts = NULL;
+    job->fo.nstarts = 0;
 }
 
 SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
@@ -604,7 +635,8 @@ SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err)
             fputs("\n", stderr);
     }
     if (st == SQ_OK)
-        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in, &prep, &target, &fo, &res, job->size, &clock, err);
+        st = write_outputs(job->outdir, job->photo, job->mask, job->line, &in, &prep, &target, &fo, job->starts.path, &res,
+                           job->size, &clock, err);
     if (st == SQ_OK) {
         if (x.checkpoint_error[0] && !job->quiet)
             fprintf(stderr, "squama: warning: a checkpoint could not be written: %s\n", x.checkpoint_error);

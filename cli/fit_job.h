@@ -9,6 +9,25 @@
 #include "squama/fitness.h"
 #include "squama/search.h"
 
+/* The presets the fit's screening starts from as well (SqFitOptions.starts). */
+enum { CLI_START_ARGS = 64 };
+typedef struct CliStarts {
+    const char *arg[CLI_START_ARGS]; /* --start's values: presets, or folders of them */
+    int nargs;
+    int none;                  /* --no-starts */
+    SqParams *params;          /* what cli_starts_load loaded: n presets, and their files */
+    char **path;
+    int n;
+    uint64_t digest;           /* FNV-1a over the files taken, in order */
+} CliStarts;
+
+/* Loads the starts: each --start file (one the fit cannot search is an error) and each
+ * --start folder's *.json (one the fit cannot search is skipped, with a warning unless
+ * quiet); with neither --start nor --no-starts, the shipped complex/ and layered/ presets
+ * (quietly none when they are not installed). SQ_OK, or an error naming the file. */
+SqStatus cli_starts_load(CliStarts *s, int quiet, SqError *err);
+void cli_starts_free(CliStarts *s);
+
 typedef struct CliFitJob {
     const char *photo, *mask;  /* mask NULL: the photo's alpha, else made automatically */
     const char *line;          /* a body line to follow, or NULL */
@@ -22,6 +41,7 @@ typedef struct CliFitJob {
     long offset_evals;         /* evaluations spent before a resume */
     volatile int *stop;        /* nonzero: finish with the best so far */
     int budget_given;          /* --budget was given (with --evals: both apply) */
+    CliStarts starts;          /* loaded by cli_fit_job_options_done */
 } CliFitJob;
 
 typedef struct CliFitOutcome {
@@ -54,22 +74,28 @@ void cli_fit_job_init(CliFitJob *job);
 SqStatus cli_fit_job_run(const CliFitJob *job, CliFitOutcome *out, SqError *err);
 
 /* The options fit and batch share, for getopt_long: --budget (-b), --evals, --seed (-s),
- * --threads (-j), --size, --categories, --work-size. */
+ * --threads (-j), --size, --categories, --work-size, --start, --no-starts. */
 enum { CLI_FITOPT_EVALS = 1000, CLI_FITOPT_SIZE, CLI_FITOPT_CATEGORIES, CLI_FITOPT_WORK,
-       CLI_FITOPT_END };
+       CLI_FITOPT_START, CLI_FITOPT_NO_STARTS, CLI_FITOPT_END };
 #define CLI_FIT_LONGOPTS                                                                       \
     {"budget", required_argument, NULL, 'b'}, {"evals", required_argument, NULL, CLI_FITOPT_EVALS}, \
     {"seed", required_argument, NULL, 's'}, {"threads", required_argument, NULL, 'j'},          \
     {"size", required_argument, NULL, CLI_FITOPT_SIZE},                                        \
     {"categories", required_argument, NULL, CLI_FITOPT_CATEGORIES},                            \
-    {"work-size", required_argument, NULL, CLI_FITOPT_WORK}
+    {"work-size", required_argument, NULL, CLI_FITOPT_WORK},                                   \
+    {"start", required_argument, NULL, CLI_FITOPT_START},                                      \
+    {"no-starts", no_argument, NULL, CLI_FITOPT_NO_STARTS}
 
 /* Takes one getopt_long code of the shared options: CLI_OK when taken, CLI_USAGE (the
  * message printed, naming cmd) when its value is wrong, -1 when c is not one of them. */
 int cli_fit_job_option(CliFitJob *job, int c, const char *arg, const char *cmd);
 
 /* After the options: an evaluation budget without --budget is the only budget (the result
- * then depends only on the seed). */
-void cli_fit_job_options_done(CliFitJob *job);
+ * then depends only on the seed), and the starts are loaded (cli_starts_load). CLI_OK, or
+ * CLI_FAIL with the error printed. */
+int cli_fit_job_options_done(CliFitJob *job, const char *cmd);
+
+/* Frees what the options loaded. */
+void cli_fit_job_free(CliFitJob *job);
 
 #endif

@@ -613,6 +613,50 @@ static void read_bands(Fit *f)
     }
 }
 
+/* Screening candidates from the starting presets (o->starts, e.g. the shipped complex
+ * ones), those of a kind fitted: each at the view scale of the screening's grid that
+ * suits it best, as it is and its colours moved toward the photo's palette the
+ * SQ_RECOLOUR_WAYS ways of sq__recoloured; a reaction-diffusion pattern on the fit's
+ * grid. Returns how many candidates were made (at most (1 + SQ_RECOLOUR_WAYS) * nstarts). */
+static int start_candidates(Fit *f, SqFitCandidate *c)
+{
+    enum { W = SQ_RECOLOUR_WAYS };
+    int n = 0;
+    for (int i = 0; i < f->o.nstarts; i++) {
+        if (!fitted(&f->o, sq_fit_kind_of(&f->o.starts[i])))
+            continue;
+        SqFitCandidate *x = &c[n++];
+        memset(x, 0, sizeof *x);
+        x->params = f->o.starts[i];
+        if (x->params.Pattern_Type == SQ_PATTERN_COMPLEX)
+            x->params.RD_Cells = FIT_RD_CELLS;
+        x->params.Seed = (int)(sq__rng_next(&f->rng) & 0x7fffffff);
+        x->view_scale = 1;
+    }
+    if (n == 0)
+        return 0;
+    SqFitCandidate *v = c + n;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
+    for (int i = 0; i < n; i++) { /* the grid's strip at the scale chosen gives the features to recolour */
+        SqImage strip = {0};
+        SqFeatures feat;
+        if (sq_fit_score(f->target, &c[i].params, f->o.coarse_size, f->o.band_centre, 0,
+                         &f->maps[omp_get_thread_num()], c[i].obj, &c[i].view_scale, &strip, NULL) == SQ_OK &&
+            sq_fit_features_blurred(&strip, NULL, f->target->blur, &feat, NULL) == SQ_OK) {
+            sq__recoloured(f->target, &c[i], &feat, v + W * i);
+        } else {
+            set_failed(&c[i]);
+            for (int w = 0; w < W; w++)
+                v[W * i + w] = c[i];
+        }
+        sq_image_free(&strip);
+    }
+    f->evals += n;
+    evaluate_all(f, v, W * n, f->o.coarse_size, 0);
+    f->r->starts_used = n;
+    return (1 + W) * n;
+}
+
 /* Screens every category fitted; fills norm and category_score; leaves the candidates
  * sorted by score in *out. */
 static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
@@ -624,7 +668,7 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
     }
     int n = per * ncat + f->o.nseeds;
-    const size_t nextra = 2 * READINGS + SPOT_READINGS * SPOT_SIZES;
+    const size_t nextra = 2 * READINGS + SPOT_READINGS * SPOT_SIZES + (size_t)f->o.nstarts * (1 + SQ_RECOLOUR_WAYS);
     SqFitCandidate *c = calloc((size_t)n + nextra, sizeof *c);
     double *col = malloc(sizeof(double) * ((size_t)n + nextra));
     if (!c || !col) {
@@ -661,9 +705,10 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
     int nread = read_candidates(f, c + k);
     nread += spot_candidates(f, c + k + nread);
     read_bands(f);
+    const int nstart = start_candidates(f, c + k + nread);
     const int rounds_n = n;
     evaluate_all(f, c + k, nread, f->o.coarse_size, 0);
-    n += nread;
+    n += nread + nstart;
     /* Scored round by round: the starting candidates and 4 of every kind, then 2 more of
      * every kind at a time. With a time budget screening stops after the round that reaches
      * 30% of it, every kind having had as many; the candidates left are dropped. */
@@ -1736,6 +1781,15 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
             return sq_error_set(err, SQ_ERR_INVALID, "fit",
                                 "a starting preset is of the kind \"%s\", which this fit leaves out",
                                 sq_fit_kind_name(t));
+    }
+    if (o->nstarts < 0 || (o->nstarts > 0 && !o->starts))
+        return sq_error_set(err, SQ_ERR_INVALID, "fit", "starting presets missing");
+    for (int i = 0; i < o->nstarts; i++) {
+        SqGenome g;
+        SqError e;
+        if (sq_params_validate(&o->starts[i], &e) != SQ_OK || sq_genome_of(&g, &o->starts[i], &e) != SQ_OK)
+            return sq_error_set(err, SQ_ERR_INVALID, "fit", "starting preset %d cannot be searched: %s", i + 1,
+                                e.what);
     }
     return SQ_OK;
 }

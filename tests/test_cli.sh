@@ -92,7 +92,7 @@ run fit -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster" 2 err 
 run fit --seed=3 -xq x.jpg -o "$TMP/never"; check "an unknown letter in a cluster after a long option" 2 err "unknown option '-x'"
 run fit --json -qx x.jpg -o "$TMP/never"; check "an unknown letter ending a cluster" 2 err "unknown option '-x'"
 run fit x.jpg -o "$TMP/never" --json=1; check "a value for a flag" 2 err "--json takes no value"
-run fit x.jpg -o "$TMP/never" --s=3; check "an ambiguous prefix" 2 err "ambiguous option '--s': --seed, --size? (see 'squama fit --help')"
+run fit x.jpg -o "$TMP/never" --s=3; check "an ambiguous prefix" 2 err "ambiguous option '--s': --seed, --size, --start? (see 'squama fit --help')"
 run fit x.jpg -o "$TMP/never" --sed 3; check "an unknown option" 2 err "unknown option '--sed'"
 run presets frob;         check "presets unknown subcommand" 2 err "unknown subcommand 'frob'"
 SQUAMA_PRESETS="$SRC/presets/thesis/ca" run presets list
@@ -332,8 +332,18 @@ run fit "$TMP/p.jpg" -o "$TMP/fx" --method simplex; check "fit bad method" 2 err
 run fit "$TMP/p.jpg" -o "$TMP/fx" --seed ""; check "fit empty --seed" 2 err "--seed must be 0 to 2147483647, got ''"
 run fit "$TMP/p.jpg" -o "$TMP/fx" --categories spots,stripes; check "fit bad kind" 2 err "layered, or all; got 'stripes'"
 run fit "$TMP/none.jpg" -o "$TMP/fx" --evals 100; check "fit missing photo" 1 err "cannot open image"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --start "$TMP/nowhere.json"; check "fit --start missing" 1 err "no such starting preset or folder ($TMP/nowhere.json)"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --start "$SRC/presets/complex/viper_zigzag.json"
+check "fit --start it cannot search" 1 err "the fit cannot start from this preset: no layered genome" err "viper_zigzag.json)"
+printf '{"Pattern_Type": "spots",\n "Spots_Tilling": 3}\n' > "$TMP/typo.json"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --start "$SRC/presets/complex" --start "$TMP/typo.json"; check "fit --start malformed" 1 err "$TMP/typo.json:2"
+run fit "$TMP/p.jpg" -o "$TMP/fx" --start "$TMP/typo.json" --no-starts; check "fit --start --no-starts" 2 err "contradict"
+[ -e "$TMP/fx" ] && { echo "FAIL: a fit refused for its starts made its output folder"; fails=$((fails + 1)); }
 [ -e "$TMP/fx/best.json" ] && { echo "FAIL: a failed fit wrote best.json"; fails=$((fails + 1)); }
-run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 64 -j 2
+# started from one complex preset and the layered folder (not fitted by default): the
+# default starts, all the shipped complex ones, cost a sanitized run half as much again
+run fit "$TMP/p.jpg" --mask "$TMP/p_mask.png" -o "$TMP/fit" --evals 300 --size 64 -j 2 \
+  --start "$SRC/presets/complex/cheetah.json" --start "$SRC/presets/layered"
 check "fit" 0 out "evaluations" out "report: $TMP/fit/report.html"
 for f in best.json fit.json front/00.json basecolor.png height.png roughness.png normal.png \
          preview.png photo.jpg mask.png strip.png fitted_strip.png line.json line.png report.html \
@@ -360,6 +370,11 @@ assert t["search"] >= sum(t[x] for x in ("screen", "evolve", "rescore", "layer",
 c = json.load(open(os.path.join(os.path.dirname(sys.argv[1]), "checkpoint", "checkpoint.json")))
 assert t["prepare"] <= c["seconds"] <= t["prepare"] + t["search"], (c["seconds"], t)
 assert f["category"] in f["category_scores"]
+# the starts: a file, and a folder's presets; those of kinds fitted screened (layered is not by default)
+st = s["starts"]
+assert st["presets"][0].endswith("/complex/cheetah.json") and len(st["presets"]) > 1, st
+assert all("/layered/" in x and os.path.isfile(x) for x in st["presets"][1:]), st
+assert st["screened"] == 1, st
 # each kind's best as a preset; the chosen kind's is best.json, the others' the scores compared
 import os, struct
 here = os.path.dirname(sys.argv[1])
@@ -478,6 +493,16 @@ check "fit --line" 0
 [ -e "$TMP/fitl/line.json" ] && { echo "FAIL: fit --line wrote line.json"; fails=$((fails + 1)); }
 grep -q '"mask_source": "line"' "$TMP/fitl/fit.json" && grep -q "\"line\": \"$TMP/fit/line.json\"" "$TMP/fitl/fit.json" ||
   { echo "FAIL: fit.json does not name the line"; fails=$((fails + 1)); }
+if command -v python3 >/dev/null; then # the default starts: the shipped presets the fit can search, none of a kind fitted here
+  python3 - "$TMP/fitl/fit.json" <<'PY' || { echo "FAIL: the default starts"; fails=$((fails + 1)); }
+import json, os, sys
+st = json.load(open(sys.argv[1]))["search"]["starts"]
+names = [os.path.relpath(x, os.path.dirname(os.path.dirname(x))) for x in st["presets"]]
+assert "complex/cheetah.json" in names and "layered/garter_snake.json" in names, names
+assert "complex/viper_zigzag.json" not in names, names  # a layer over reaction-diffusion: not searched
+assert st["screened"] == 0, st
+PY
+fi
 # a line given into a folder with an earlier automatic line.json: that one goes (it is not
 # the line followed), the report says the line was given; the folder's own line.json given
 # back stays as it is

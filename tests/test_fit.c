@@ -653,6 +653,63 @@ static void the_champion_is_recoloured(void **state)
     sq_fit_result_free(&r);
 }
 
+/* Starting presets (SqFitOptions.starts): a start the fit cannot search is refused; those
+ * of the kinds fitted are screened, at the screening grid's view scale that suits them and
+ * with their colours moved toward the photo's palette. On a photo of the shipped cheetah
+ * (reaction-diffusion, on the fit's grid), a complex-only fit started from the cheetah
+ * seen under a dimmer, greener light (its colours scaled) comes nearer than the same fit
+ * without it (both scored under the latter's norms); a spots start is skipped. */
+static void starting_presets_are_screened(void **state)
+{
+    (void)state;
+    char path[4096];
+    SqParams starts[2];
+    SqError err;
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/complex/cheetah.json"), &starts[0], NULL, &err),
+                     SQ_OK);
+    starts[0].RD_Cells = 48;
+    SqFeatures photo;
+    assert_int_equal(features_of(&starts[0], &photo), 0);
+    for (int c = 0; c < 3; c++) { /* the skin under a dimmer, greener light */
+        starts[0].Background_Color[c] *= c == 1 ? 0.75 : 0.55;
+        starts[0].RD_Color1[c] *= c == 1 ? 0.75 : 0.55;
+    }
+    starts[0].Seed = 99;
+    thesis_spots(&starts[1]);
+    SqFitOptions o = small(2);
+    o.categories = 1u << SQ_PATTERN_COMPLEX;
+    o.max_evals = 200;
+    SqFitResult r0, r1;
+    o.nstarts = 2; /* refused before any work */
+    assert_int_equal(sq_fit_run(&photo, &o, &r1, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "starting presets missing");
+    SqParams layered = starts[0]; /* reaction-diffusion under a layer: not searched */
+    layered.Pattern_Layers.count = 1;
+    layered.Pattern_Layers.layer[0].spec = starts[1].pattern;
+    o.starts = &layered;
+    o.nstarts = 1;
+    assert_int_equal(sq_fit_run(&photo, &o, &r1, &err), SQ_ERR_INVALID);
+    assert_contains(err.what, "starting preset 1 cannot be searched");
+    SKIP_WHEN_SANITIZED(); /* two fits of reaction-diffusion: the CLI's fit runs this code there */
+    o.starts = NULL;
+    o.nstarts = 0;
+    assert_int_equal(sq_fit_run(&photo, &o, &r0, &err), SQ_OK);
+    o.starts = starts;
+    o.nstarts = 2;
+    assert_int_equal(sq_fit_run(&photo, &o, &r1, &err), SQ_OK);
+    assert_int_equal(r0.starts_used, 0);
+    assert_int_equal(r1.starts_used, 1);
+    double s0 = 0, s1 = 0;
+    for (int k = 0; k < SQ_OBJ_COUNT; k++) {
+        s0 += r0.best.obj[k] / r0.norm[k];
+        s1 += r1.best.obj[k] / r0.norm[k];
+    }
+    printf("  without the start %.3f, with it %.3f\n", s0, s1);
+    assert_true(s1 < 0.8 * s0);
+    sq_fit_result_free(&r0);
+    sq_fit_result_free(&r1);
+}
+
 static void bad_options(void **state)
 {
     (void)state;
@@ -698,6 +755,7 @@ int main(void)
         cmocka_unit_test(baselines_run_on_the_same_budget),
         cmocka_unit_test(recolouring_brings_the_colours_back),
         cmocka_unit_test(the_champion_is_recoloured),
+        cmocka_unit_test(starting_presets_are_screened),
         cmocka_unit_test(bad_options),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -374,6 +374,10 @@ typedef struct SqFitOptions {
                                      be NULL): the screening's automata start from the
                                      automata read off it (sq_fit_read_automata) */
     int nseeds;
+    const SqParams *starts;  /* presets the screening starts from as well (e.g. the shipped
+                                complex ones), each at its best view scale and recoloured
+                                toward the photo's palette; those of kinds not fitted skipped */
+    int nstarts;
     volatile int *stop;      /* becomes nonzero (e.g. on SIGINT): finish with what is there */
     void (*progress)(const SqFitProgress *p, void *ctx); /* after each generation */
     void *ctx;
@@ -402,6 +406,7 @@ typedef struct SqFitResult {
     int kind_recoloured[SQ_FIT_KINDS]; /* 1: this kind's best (best.json for its own kind)
                                           had its colours moved toward the photo's palette
                                           after the pick, and scores better so */
+    int starts_used;         /* starting presets screened (of kinds fitted) */
     long recolour_evals;     /* the evaluations that recolouring took, beyond evals */
     double recolour_seconds; /* and the time */
     int niche[SQ_FIT_KINDS]; /* 1: evolved in stage 2 */
