@@ -254,7 +254,7 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
 {
     const SqFitOptions *fo = &job->fo;
     char budget[64], evals[32], seed[32], threads[32], size[32], work[32], cats[256] = "";
-    const char *argv[32];
+    const char *argv[32 + 2 * CLI_START_ARGS];
     int a = 0;
     argv[a++] = "squama";
     argv[a++] = "fit";
@@ -296,6 +296,12 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
                 snprintf(cats + strlen(cats), sizeof cats - strlen(cats), "%s%s", cats[0] ? "," : "", sq_fit_kind_name(k));
         argv[a++] = "--categories";
         argv[a++] = cats;
+    }
+    if (job->starts.none) /* the starts as given: the fit loads them as the batch did */
+        argv[a++] = "--no-starts";
+    for (int i = 0; i < job->starts.nargs; i++) {
+        argv[a++] = "--start";
+        argv[a++] = job->starts.arg[i];
     }
     argv[a++] = "-q";
     argv[a++] = "--"; /* a photo named -x.jpg is a photo */

@@ -8,7 +8,9 @@ SQ=$1 SRC=$2 TMP=$3 PART=${4:-local}
 rm -rf "$TMP" && mkdir -p "$TMP"
 fails=0
 out="$TMP/out" err="$TMP/err"
-FIT=(--evals 100 --size 64 --work-size 256 --categories transversal,longitudinal)
+# a start of a kind not fitted: passed on to each row's fit and in its settings, never screened
+FIT=(--evals 100 --size 64 --work-size 256 --categories transversal,longitudinal
+     --start "$SRC/presets/complex/cheetah.json")
 
 run() { "$SQ" "$@" >"$out" 2>"$err"; echo $? >"$TMP/rc"; }
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
@@ -130,6 +132,10 @@ for r in rows:
         assert "category differs, <a href='%s/kinds.png'>" % r["id"] in html, r["id"]
         assert (("%s/kinds/%s.json" % (r["id"], r["expected"])) in html) == (r["expected"] in kinds), r["id"]
 assert "category differs, <a href='stripes/kinds.png'>" in html and "stripes/kinds/spots.json" not in html
+for row in ("bands", "stripes"):  # the batch's --start reached each row's fit, and its settings
+    st = json.load(open(f"{d}/{row}/fit.json"))["search"]["starts"]
+    assert [os.path.basename(x) for x in st["presets"]] == ["cheetah.json"] and st["screened"] == 0, st
+    assert " starts=1:" in json.load(open(f"{d}/{row}/done.json"))["settings"], row
 PY
   grep -q '"id":"gone".*"status":"error"' "$out" || fail "no JSON line for the missing photo"
   # a merge keeps the manifest's bad rows (no folder of their own), in place and elsewhere
