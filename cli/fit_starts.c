@@ -90,9 +90,11 @@ static int load_one(CliStarts *s, const char *path, char *why, size_t nwhy, SqEr
     const int bad = !text || ferror(fp) || len == FILE_MAX;
     fclose(fp);
     if (bad) {
+        if (text)
+            sq_error_set(err, SQ_ERR_IO, path, "cannot read the starting preset, or it is over 1 MiB");
+        else
+            sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
         free(text);
-        sq_error_set(err, text ? SQ_ERR_IO : SQ_ERR_NOMEM, path,
-                     text ? "cannot read the starting preset, or it is over 1 MiB" : "out of memory");
         return -1;
     }
     SqParams *p = &s->params[s->n];
