@@ -11,6 +11,7 @@
 
 #include "cli.h"
 #include "fit_job.h"
+#include "squama/io.h"
 #include "squama/preset.h"
 #include "squama/search.h"
 
@@ -19,7 +20,7 @@
  * (docs/recovery.md, session 48), and the layered skins. */
 static const char *const DEFAULT_DIRS[] = {"complex", "layered"};
 
-enum { STARTS_MAX = 256, FILE_MAX = 1 << 20 };
+enum { STARTS_MAX = 256 };
 
 static int ends_with_json(const char *s)
 {
@@ -80,23 +81,10 @@ static int list_json(const char *dir, char ***out, int *n)
  * hashed into the digest. */
 static int load_one(CliStarts *s, const char *path, char *why, size_t nwhy, SqError *err)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-        sq_error_set(err, SQ_ERR_IO, path, "cannot open the starting preset");
+    char *text;
+    size_t len;
+    if (sq_io_read_file(path, SQ_PRESET_MAX_BYTES, &text, &len, err) != SQ_OK)
         return -1;
-    }
-    char *text = malloc(FILE_MAX);
-    size_t len = text ? fread(text, 1, FILE_MAX, fp) : 0;
-    const int bad = !text || ferror(fp) || len == FILE_MAX;
-    fclose(fp);
-    if (bad) {
-        if (text)
-            sq_error_set(err, SQ_ERR_IO, path, "cannot read the starting preset, or it is over 1 MiB");
-        else
-            sq_error_set(err, SQ_ERR_NOMEM, path, "out of memory");
-        free(text);
-        return -1;
-    }
     SqParams *p = &s->params[s->n];
     SqGenome g;
     SqError e;
