@@ -328,6 +328,11 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
         cJSON_AddItemToObject(sr, "view_scale", sq__json_exact_number(r->spots_read_view_scale));
         cJSON_AddItemToObject(sr, "score", sq__json_exact_number(r->spots_read_score));
         cJSON_AddBoolToObject(sr, "held", r->spots_held);
+        if (r->spots_recoloured > 0) {
+            cJSON_AddNumberToObject(sr, "recoloured", r->spots_recoloured);
+            cJSON_AddItemToObject(sr, "palette_read", sq__json_exact_number(r->spots_palette_read));
+            cJSON_AddItemToObject(sr, "palette_recoloured", sq__json_exact_number(r->spots_palette_recoloured));
+        }
     }
     if (r->layer_searched) {
         cJSON *ls = cJSON_AddObjectToObject(root, "layer_search");

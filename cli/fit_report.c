@@ -182,10 +182,14 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
         cli_buf_put(&b, "<p>The best spot lattice read off the strip has %d spots round the body at view scale %.2f "
                 "(score %.2f): %s.</p>\n",
             r->spots_read_across, r->spots_read_view_scale, r->spots_read_score,
-            r->spots_read == 0 ? "below 0.8, too weak to start the screening"
+            r->spots_read == 0 ? "below 0.55, too weak to start the screening"
             : r->spots_held    ? "the lattices read started the spots' screening, and the spots niche searched the one "
                                  "its best started from"
                                : "the lattices read started the spots' screening");
+    if (r->spots_recoloured > 0)
+        cli_buf_put(&b, "<p>The lattices read that suited the strip's layout best were recoloured toward its palette "
+                "(%d candidates): the best palette objective went from %.2f to %.2f.</p>\n",
+            r->spots_recoloured, r->spots_palette_read, r->spots_palette_recoloured);
     if (r->layer_searched) {
         cli_buf_put(&b, "<p>A layer of %s was searched over the best %s skin (%ld evaluations): the layered skin "
                 "re-scored %.3f against the champion's %.3f, ",

@@ -441,6 +441,10 @@ typedef struct SqFitResult {
     int spots_read_across;   /* the best lattice's spots round the body (0: none read) */
     double spots_read_view_scale, spots_read_score; /* its view scale and score */
     int spots_held;          /* 1: the spots niche searched a lattice read (started from it) */
+    int spots_recoloured;    /* screening candidates of the best lattices read, recoloured
+                              * toward the photo's palette (0: none read) */
+    double spots_palette_read, spots_palette_recoloured; /* the lowest palette objective of
+                              * the lattices read as read and of those recoloured */
     double bands_read_view_scale, bands_read_corr, bands_read_explained; /* bands read off the
                               * photo's strip (sq_fit_read_bands; none start a candidate): the
                               * best reading's view scale, repeat and share of the colours'
