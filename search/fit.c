@@ -616,6 +616,39 @@ static void read_bands(Fit *f)
     }
 }
 
+/* Each of c's n candidates scored at size (grid: at the best view scale of the screening's
+ * grid, else at its own), in place, and its colours moved toward the photo's palette the
+ * SQ_RECOLOUR_WAYS ways of sq__recoloured from the features of its strip, into out
+ * (SQ_RECOLOUR_WAYS * n, scored at size); a candidate that fails is copied there. */
+static void recoloured_all(Fit *f, SqFitCandidate *c, int n, int size, int grid, SqFitCandidate *out)
+{
+    enum { W = SQ_RECOLOUR_WAYS };
+#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
+    for (int i = 0; i < n; i++) {
+        SqTextures *maps = &f->maps[omp_get_thread_num()];
+        SqFeatures feat;
+        int ok;
+        if (grid) { /* the grid's strip at the scale chosen gives the features */
+            SqImage strip = {0};
+            ok = sq_fit_score(f->target, &c[i].params, size, f->o.band_centre, 0, maps, c[i].obj, &c[i].view_scale,
+                              &strip, NULL) == SQ_OK &&
+                 sq_fit_features_blurred(&strip, NULL, f->target->blur, &feat, NULL) == SQ_OK;
+            sq_image_free(&strip);
+            if (!ok)
+                set_failed(&c[i]);
+        } else {
+            ok = evaluate_features(f, &c[i], size, 1, maps, &feat) == 0;
+        }
+        if (ok)
+            sq__recoloured(f->target, &c[i], &feat, out + W * i);
+        else
+            for (int w = 0; w < W; w++)
+                out[W * i + w] = c[i];
+    }
+    f->evals += n;
+    evaluate_all(f, out, W * n, size, 0);
+}
+
 /* Screening candidates from the starting presets (o->starts, e.g. the shipped complex
  * ones), those of a kind fitted: each at the view scale of the screening's grid that
  * suits it best, as it is and its colours moved toward the photo's palette the
@@ -638,24 +671,7 @@ static int start_candidates(Fit *f, SqFitCandidate *c)
     }
     if (n == 0)
         return 0;
-    SqFitCandidate *v = c + n;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
-    for (int i = 0; i < n; i++) { /* the grid's strip at the scale chosen gives the features to recolour */
-        SqImage strip = {0};
-        SqFeatures feat;
-        if (sq_fit_score(f->target, &c[i].params, f->o.coarse_size, f->o.band_centre, 0,
-                         &f->maps[omp_get_thread_num()], c[i].obj, &c[i].view_scale, &strip, NULL) == SQ_OK &&
-            sq_fit_features_blurred(&strip, NULL, f->target->blur, &feat, NULL) == SQ_OK) {
-            sq__recoloured(f->target, &c[i], &feat, v + W * i);
-        } else {
-            set_failed(&c[i]);
-            for (int w = 0; w < W; w++)
-                v[W * i + w] = c[i];
-        }
-        sq_image_free(&strip);
-    }
-    f->evals += n;
-    evaluate_all(f, v, W * n, f->o.coarse_size, 0);
+    recoloured_all(f, c, n, f->o.coarse_size, 1, c + n);
     f->r->starts_used = n;
     return (1 + W) * n;
 }
@@ -698,18 +714,10 @@ static int spot_recoloured(Fit *f, const SqFitCandidate *sp, int ns, SqFitCandid
     }
     if (n == 0)
         return 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
-    for (int i = 0; i < n; i++) {
-        SqFitCandidate x = sp[pick[i]];
-        SqFeatures feat;
-        if (evaluate_features(f, &x, f->o.coarse_size, 1, &f->maps[omp_get_thread_num()], &feat) == 0)
-            sq__recoloured(f->target, &x, &feat, out + W * i);
-        else
-            for (int w = 0; w < W; w++)
-                out[W * i + w] = x;
-    }
-    f->evals += n;
-    evaluate_all(f, out, W * n, f->o.coarse_size, 0);
+    SqFitCandidate x[SPOT_RECOLOURED];
+    for (int i = 0; i < n; i++)
+        x[i] = sp[pick[i]];
+    recoloured_all(f, x, n, f->o.coarse_size, 0, out);
     double after = INFINITY;
     for (int i = 0; i < W * n; i++)
         after = fmin(after, out[i].obj[SQ_OBJ_PALETTE]);
@@ -1946,24 +1954,12 @@ static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *bet
     for (int i = 0; i < n; i++)
         better[i].score = INFINITY;
     SqFitCandidate *v = malloc(sizeof *v * (size_t)n * (W + 1));
-    SqFeatures *feat = malloc(sizeof *feat * (size_t)n);
-    if (!v || !feat) { /* out of memory: nothing recoloured */
-        free(v);
-        free(feat);
+    if (!v) /* out of memory: nothing recoloured */
         return;
-    }
     SqFitCandidate *as_is = v + (size_t)n * W; /* c[i] scored at this size */
-#pragma omp parallel for schedule(dynamic, 1) num_threads(f->threads)
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < n; i++)
         as_is[i] = c[i];
-        if (evaluate_features(f, &as_is[i], size, 1, &f->maps[omp_get_thread_num()], &feat[i]) == 0)
-            sq__recoloured(f->target, &c[i], &feat[i], v + W * i);
-        else
-            for (int w = 0; w < W; w++)
-                v[W * i + w] = c[i];
-    }
-    f->evals += n;
-    evaluate_all(f, v, W * n, size, 0);
+    recoloured_all(f, as_is, n, size, 0, v);
     for (int i = 0; i < n; i++) {
         score_of(f, &as_is[i]);
         const SqFitCandidate *b = &as_is[i];
@@ -1976,7 +1972,6 @@ static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *bet
             better[i] = *b;
     }
     free(v);
-    free(feat);
 }
 
 /* Every kind's best recoloured once the champion is picked: its colours moved toward the
