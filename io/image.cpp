@@ -233,6 +233,9 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
     under_way.store(nullptr);
     if (!ok) {
         std::string msg = first_line(out ? out->geterror() : OIIO::geterror());
+        /* OpenEXR names the file it was writing: the temporary one, which is gone */
+        for (size_t at = msg.find(tmp); at != std::string::npos; at = msg.find(tmp, at + std::strlen(path)))
+            msg.replace(at, std::strlen(tmp), path);
         sq__io_drop_temp(tmp);
         return sq_error_set(err, SQ_ERR_IO, path, "cannot write image: %s", msg.c_str());
     }

@@ -738,7 +738,10 @@ static SqStatus screen(Fit *f, SqFitCandidate **out, int *nout, SqError *err)
         per = (int)(cap < per ? (cap > 4 ? cap : 4) : per);
     }
     int n = per * ncat + f->o.nseeds;
-    const size_t nextra = 2 * READINGS + SPOT_READINGS * SPOT_SIZES + SPOT_RECOLOURED * SQ_RECOLOUR_WAYS + (size_t)f->o.nstarts * (1 + SQ_RECOLOUR_WAYS);
+    /* beyond the draws: the automata read (two a reading), the spot lattices read and the
+     * best of them recoloured, and each start as it is and recoloured */
+    const size_t nextra = 2 * READINGS + SPOT_READINGS * SPOT_SIZES + SPOT_RECOLOURED * SQ_RECOLOUR_WAYS +
+                          (size_t)f->o.nstarts * (1 + SQ_RECOLOUR_WAYS);
     SqFitCandidate *c = calloc((size_t)n + nextra, sizeof *c);
     double *col = malloc(sizeof(double) * ((size_t)n + nextra));
     if (!c || !col) {

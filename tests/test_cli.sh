@@ -124,6 +124,11 @@ rm -rf "$TMP/r/full" && cp -r "$TMP/r/deep" "$TMP/r/full"
 check "render onto a full disk" 1 err "the file came out cut short (is the disk full?) ($TMP/r/full/basecolor.png)"
 cmp -s "$TMP/r/full/basecolor.png" "$TMP/r/deep/basecolor.png" || { echo "FAIL: a render onto a full disk replaced basecolor.png"; fails=$((fails + 1)); }
 [ "$(ls -A "$TMP/r/full" | tr '\n' ' ')" = "basecolor.png height.png normal.png roughness.png " ] || { echo "FAIL: a render onto a full disk left: $(ls -A "$TMP/r/full")"; fails=$((fails + 1)); }
+# OpenEXR's own message names the file it was writing: as the map it was to become
+(ulimit -f 8; "$SQ" render "$SRC/presets/complex/cheetah.json" -o "$TMP/r/fullx" --size 256 -f exr >"$out" 2>"$err"; echo $? >"$TMP/rc")
+check "render EXR maps onto a full disk" 1 err "image file \"$TMP/r/fullx/basecolor.exr\". File output failed. ($TMP/r/fullx/basecolor.exr)"
+! grep -q 'tmp-' "$err" || { echo "FAIL: a temporary name in the error: $(cat "$err")"; fails=$((fails + 1)); }
+[ ! -e "$TMP/r/fullx" ] || { echo "FAIL: a render onto a full disk left: $(ls -A "$TMP/r/fullx")"; fails=$((fails + 1)); }
 # a map that cannot be replaced after another was (a sticky folder: another user's map):
 # the one replaced is put back. Needs root to stage it, and a user who can run squama here.
 if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null && chmod 1777 "$TMP/r" &&
