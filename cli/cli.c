@@ -432,23 +432,18 @@ static const char *shown_as(const CliStaging *s, const char *path, char *buf, si
 
 void cli_staging_where(const CliStaging *s, SqError *err)
 {
-    char buf[sizeof err->what > sizeof err->where ? sizeof err->what : sizeof err->where];
+    char buf[sizeof err->where];
     if (shown_as(s, err->where, buf, sizeof buf))
         snprintf(err->where, sizeof err->where, "%s", buf);
     /* a library's message may name the staged file too (OpenEXR's does) */
     const size_t k = strlen(s->dir);
-    const char *at = k ? strstr(err->what, s->dir) : NULL;
-    if (at && at[k] == '/') { /* the head, outdir, the tail; cut at what's size */
-        const size_t head = (size_t)(at - err->what), out = strlen(s->outdir), tail = strlen(at + k);
-        char *w = err->what;
-        const size_t cap = sizeof err->what - 1;
-        memcpy(buf, at + k, tail + 1 < sizeof buf ? tail + 1 : sizeof buf);
-        buf[sizeof buf - 1] = 0;
-        const size_t o = head + out < cap ? out : cap - head;
-        memcpy(w + head, s->outdir, o);
-        const size_t t = head + o + tail < cap ? tail : cap - head - o;
-        memcpy(w + head + o, buf, t);
-        w[head + o + t] = 0;
+    char *at = k ? strstr(err->what, s->dir) : NULL;
+    if (at && at[k] == '/') {
+        char tail[sizeof err->what];
+        snprintf(tail, sizeof tail, "%s", at + k);
+        const size_t room = sizeof err->what - (size_t)(at - err->what);
+        const int len = snprintf(at, room, "%s%s", s->outdir, tail); /* cut at what's size */
+        (void)len;
     }
 }
 
