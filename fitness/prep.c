@@ -213,28 +213,29 @@ static void smooth1d(float *v, int n, double sigma)
     if (sigma < 0.5 || n < 2)
         return;
     int rad = (int)ceil(3 * sigma);
-    float *out = malloc(sizeof(float) * (size_t)n), *wgt = malloc(sizeof(float) * (size_t)(rad + 1));
-    if (!out || !wgt) {
-        free(out);
+    /* the weights from -rad to rad, and v padded with its ends rad wide: the sums run
+     * without a clamp in the loop (a candidate strip's light is smoothed over 385 taps) */
+    float *wgt = malloc(sizeof(float) * (size_t)(2 * rad + 1)), *pad = malloc(sizeof(float) * (size_t)(n + 2 * rad));
+    if (!wgt || !pad) {
         free(wgt);
+        free(pad);
         return;
     }
     double ws = 0;
     for (int k = 0; k <= rad; k++) {
-        wgt[k] = (float)exp(-0.5 * k * k / (sigma * sigma));
-        ws += k ? 2 * wgt[k] : wgt[k];
+        wgt[rad + k] = wgt[rad - k] = (float)exp(-0.5 * k * k / (sigma * sigma));
+        ws += k ? 2 * wgt[rad + k] : wgt[rad];
     }
+    for (int j = 0; j < n + 2 * rad; j++)
+        pad[j] = v[j < rad ? 0 : (j - rad >= n ? n - 1 : j - rad)];
     for (int i = 0; i < n; i++) {
         double s = 0;
-        for (int k = -rad; k <= rad; k++) {
-            int j = i + k < 0 ? 0 : (i + k >= n ? n - 1 : i + k);
-            s += wgt[k < 0 ? -k : k] * v[j];
-        }
-        out[i] = (float)(s / ws);
+        for (int k = 0; k <= 2 * rad; k++)
+            s += wgt[k] * pad[i + k];
+        v[i] = (float)(s / ws);
     }
-    memcpy(v, out, sizeof(float) * (size_t)n);
-    free(out);
     free(wgt);
+    free(pad);
 }
 
 /* The mask (0/255) at (x, y), bilinear, 0 outside. */
