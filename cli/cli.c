@@ -442,8 +442,7 @@ void cli_staging_where(const CliStaging *s, SqError *err)
         char tail[sizeof err->what];
         snprintf(tail, sizeof tail, "%s", at + k);
         const size_t room = sizeof err->what - (size_t)(at - err->what);
-        const int len = snprintf(at, room, "%s%s", s->outdir, tail); /* cut at what's size */
-        (void)len;
+        snprintf(at, room, "%s%s", s->outdir, tail); /* cut at what's size */
     }
 }
 
