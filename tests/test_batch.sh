@@ -206,6 +206,24 @@ PY
   check "a line changed in place is fitted again" 0 out '"resumed":1'
   grep '"id":"lined"' "$out" | grep -q '"resumed":false' || fail "the changed line's row was not fitted again"
 
+  # scripts/manifest-photos: the shared photos' manifest made a batch manifest, each row
+  # with its drawn body line (refs/photo_lines) where one is drawn, and with --no-lines none
+  printf 'file,species,pattern_category_guess\ncharina_bottae__jv0266.jpg,charina_bottae,none\nnone_such__x1.jpg,none_such,spots\n' >"$TMP/shared.csv"
+  for v in lined no_lines; do
+    python3 "$SRC/scripts/manifest-photos" "$TMP/shared.csv" -o "$TMP/mp_$v.csv" $([ $v = no_lines ] && echo --no-lines) \
+      2>"$err" || { fail "manifest-photos ($v)"; cat "$err"; }
+  done
+  python3 - "$TMP" "$SRC" <<'PY' || fail "manifest-photos' manifests"
+import csv, os, sys
+t, src = sys.argv[1:]
+lined = list(csv.DictReader(open(t + "/mp_lined.csv", newline="")))
+assert [r["id"] for r in lined] == ["charina_bottae__jv0266", "none_such__x1"], lined
+assert os.path.samefile(os.path.join(t, lined[0]["body_line"]), src + "/refs/photo_lines/charina_bottae__jv0266.json"), lined
+assert lined[1]["body_line"] == "" and lined[1]["expected"] == "spots" and lined[1]["species"] == "none such", lined
+bare = list(csv.DictReader(open(t + "/mp_no_lines.csv", newline="")))
+assert list(bare[0]) == ["id", "photo", "expected", "species"] and len(bare) == 2, bare
+PY
+
   # a real crash: the batch killed (SIGKILL) once its first row is done; that row is read
   # back, the one it was fitting is fitted again, a row not begun is fitted, nothing
   # half-written is listed
