@@ -170,7 +170,7 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
                 "<!doctype html>\n<html><head><meta charset='utf-8'><title>squama batch</title>\n"
                 "<style>body{font-family:sans-serif;margin:24px;color:#222}table{border-collapse:collapse;font-size:13px}"
                 "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:middle}th{background:#eee}"
-                "td.n{text-align:right}img{height:80px;border:1px solid #ccc}"
+                "td.n{text-align:right}img{max-height:80px;max-width:160px;border:1px solid #ccc}"
                 "table.cm td{text-align:right;min-width:3em}td.diag{background:#cfc}td.off{background:#fdd}"
                 "tr.error td{background:#fee}button{margin:0 4px 6px 0}button.on{background:#346;color:#fff}"
                 "</style></head><body>\n<h1>squama batch</h1>\n<p>%d of %d rows done, %d failed. The same rows as "
@@ -231,7 +231,7 @@ static SqStatus write_html(const char *outdir, const CliManifestRow *rows, const
             }
             cli_buf_put(&b, "</td></tr>\n");
         } else {
-            cli_buf_put(&b, "<td></td><td colspan='4'></td><td>");
+            cli_buf_put(&b, "<td colspan='6'>");
             cli_buf_html(&b, r->error);
             cli_buf_put(&b, "</td></tr>\n");
         }
