@@ -868,6 +868,7 @@ static void photo_line(const char *path, void *ctx)
     if (access(photo_path, R_OK) == 0 && sq_io_read_image(photo_path, NULL, &photo, NULL, &err) == SQ_OK) {
         SqPrepOptions o = sq_fit_prep_options_default();
         o.line = &line;
+        o.work_size = 512; /* the length followed is the same as at 1024, in a third of the time */
         SqPrepared prep;
         if (sq_fit_prepare(&photo, NULL, &o, &prep, &err) != SQ_OK)
             fail_msg("%s: %s (%s)", base, err.what, err.where);
