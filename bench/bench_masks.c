@@ -4,9 +4,14 @@
  * stdout (what was found or why not), the median time a photo, and the median length of
  * clean body straightened in body widths with the count under 3. The sheet is cut into
  * pages of --rows rows (OUT-1.png, OUT-2.png, ...), each small enough to look at whole.
- * Usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N] */
+ * With --lines DIR, a photo with a body line drawn by hand (DIR/<photo name less its
+ * extension>.json, as refs/photo_lines holds) has the body width found set against the
+ * line's: the median ratio and how many are 1.5 times as wide or more (touching coils or
+ * ground taken for one wide body) or under 0.67 (a stripe or one coil's edge).
+ * Usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N] [--lines DIR] */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
+#include <unistd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,10 +37,11 @@ static int is_photo(const char *n)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N]\n");
+        fprintf(stderr, "usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N] [--lines DIR]\n");
         return 2;
     }
     int cols = 6, prows = 4;
+    const char *lines = NULL;
     SqPrepOptions po = sq_fit_prep_options_default();
     for (int i = 3; i + 1 < argc; i += 2)
         if (!strcmp(argv[i], "--cols"))
@@ -44,6 +50,8 @@ int main(int argc, char **argv)
             prows = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : 4;
         else if (!strcmp(argv[i], "--work-size"))
             po.work_size = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--lines"))
+            lines = argv[i + 1];
     DIR *d = opendir(argv[1]);
     if (!d) {
         fprintf(stderr, "bench_masks: cannot open %s\n", argv[1]);
@@ -66,7 +74,9 @@ int main(int argc, char **argv)
     SqImage sheet = {0};
     char out[4096];
     double *ms = malloc(sizeof *ms * (size_t)n), *widths = malloc(sizeof *widths * (size_t)n);
-    if (!ms || !widths) {
+    double *vs_line = malloc(sizeof *vs_line * (size_t)n);
+    int lined = 0, wide = 0, narrow = 0;
+    if (!ms || !widths || !vs_line) {
         fprintf(stderr, "bench_masks: out of memory\n");
         return 1;
     }
@@ -106,7 +116,20 @@ int main(int argc, char **argv)
         if (st == SQ_OK) { /* the clean body straightened, in body widths (3 to see a pattern repeat) */
             widths[ok - 1] = p.length / p.body_width;
             short_strips += widths[ok - 1] < 3;
-            printf("%4d  %-44s %.0f, %d, %d, %.1f\n", k, names[k], p.body_width, p.nruns, p.strip.height, widths[ok - 1]);
+            printf("%4d  %-44s %.0f, %d, %d, %.1f", k, names[k], p.body_width, p.nruns, p.strip.height, widths[ok - 1]);
+            char lpath[4096];
+            const char *dot = strrchr(names[k], '.');
+            snprintf(lpath, sizeof lpath, "%s/%.*s.json", lines ? lines : "", (int)(dot - names[k]), names[k]);
+            SqBodyLine line;
+            if (lines && access(lpath, R_OK) == 0 && sq_body_line_read(lpath, &line, &err) == SQ_OK) {
+                const double q = p.body_width / line.width;
+                vs_line[lined++] = q;
+                wide += q >= 1.5;
+                narrow += q < 0.67;
+                printf(", %.2f of the drawn line's width", q);
+                sq_body_line_free(&line);
+            }
+            printf("\n");
         } else
             printf("%4d  %-44s | %s (%s)\n", k, names[k], err.what, err.where);
         fflush(stdout);
@@ -127,12 +150,17 @@ int main(int argc, char **argv)
                    out, k / per_page * per_page, k, cols);
         }
     }
-    printf("RESULT masks n=%d prepared=%d median_ms=%.0f widths_median=%.2f under_3_widths=%d\n", n, ok, median(ms, n),
+    printf("RESULT masks n=%d prepared=%d median_ms=%.0f widths_median=%.2f under_3_widths=%d", n, ok, median(ms, n),
            ok ? median(widths, ok) : 0.0, short_strips);
+    if (lines)
+        printf(" lined=%d width_vs_line_median=%.2f wide_1_5x=%d narrow_0_67x=%d", lined,
+               lined ? median(vs_line, lined) : 0.0, wide, narrow);
+    printf("\n");
     for (int k = 0; k < n; k++)
         free(names[k]);
     free(names);
     free(ms);
     free(widths);
+    free(vs_line);
     return 0;
 }
