@@ -111,6 +111,9 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
             "figure{display:inline-block;margin:0 12px 12px 0;vertical-align:top}"
             "figure img{max-height:320px;max-width:420px;border:1px solid #ccc;image-rendering:auto}"
             "figure img.wide{max-height:none;max-width:100%%}"
+            /* a strip at twice its size from its start, not a long one squeezed to a sliver */
+            "figure img.strip{width:128px;height:auto;max-height:480px;max-width:none;object-fit:cover;"
+            "object-position:top}"
             "figcaption{font-size:12px;color:#555}table{border-collapse:collapse;font-size:13px}"
             "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}th{background:#eee}"
             "td.l{text-align:left}.plots svg{margin-right:16px}</style></head><body>\n");
@@ -130,12 +133,12 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
         {"photo.jpg", "photo"}, {"mask.png", "mask (pass a corrected one back with --mask)"},
         {"line.png", line_given ? "centre line followed (the body line given)"
                                 : "centre line followed (line.json: correct it and pass it back with --line)"},
-        {"strip.png", "straightened body"}, {"fitted_strip.png", "the fit, seen the same way"},
+        {"strip.png", "straightened body, from its start"}, {"fitted_strip.png", "the fit, seen the same way"},
         {"basecolor.png", "fitted texture (base colour)"}, {"normal.png", "normal map"},
         {"preview.png", "preview on a snake body, at the fitted view scale"}};
     for (size_t i = 0; i < sizeof pics / sizeof pics[0]; i++)
-        cli_buf_put(&b, "<figure><a href='%s'><img src='%s' alt='%s'></a><figcaption>%s</figcaption></figure>\n", pics[i][0],
-            pics[i][0], pics[i][1], pics[i][1]);
+        cli_buf_put(&b, "<figure><a href='%s'><img%s src='%s' alt='%s'></a><figcaption>%s</figcaption></figure>\n",
+            pics[i][0], strstr(pics[i][0], "strip") ? " class='strip'" : "", pics[i][0], pics[i][1], pics[i][1]);
     cli_buf_put(&b, "</div>\n<h2>Objectives (lower is better)</h2>\n<table><tr><th></th>");
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
         cli_buf_put(&b, "<th>%s</th>", sq_fit_objective_name(k));
