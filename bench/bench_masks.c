@@ -11,10 +11,10 @@
  * Usage: bench_masks PHOTO_DIR OUT.png [--cols C] [--rows R] [--work-size N] [--lines DIR] */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
-#include <unistd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../cli/thumb.h"
 #include "bench_util.h"
@@ -117,10 +117,10 @@ int main(int argc, char **argv)
             widths[ok - 1] = p.length / p.body_width;
             short_strips += widths[ok - 1] < 3;
             printf("%4d  %-44s %.0f, %d, %d, %.1f", k, names[k], p.body_width, p.nruns, p.strip.height, widths[ok - 1]);
-            char lpath[4096];
-            const char *dot = strrchr(names[k], '.');
-            snprintf(lpath, sizeof lpath, "%s/%.*s.json", lines ? lines : "", (int)(dot - names[k]), names[k]);
+            char lpath[4096] = "";
             SqBodyLine line;
+            if (lines) /* a photo's name has its extension (is_photo) */
+                snprintf(lpath, sizeof lpath, "%s/%.*s.json", lines, (int)(strrchr(names[k], '.') - names[k]), names[k]);
             if (lines && access(lpath, R_OK) == 0 && sq_body_line_read(lpath, &line, &err) == SQ_OK) {
                 const double q = p.body_width / line.width;
                 vs_line[lined++] = q;
