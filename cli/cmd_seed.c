@@ -27,6 +27,7 @@ static const char help[] =
     "usage: squama seed --category C -o DIR [-n N] [--seed S]\n"
     "       squama seed --near PRESET -o DIR [-n N] [--distance D] [--seed S]\n"
     "       squama seed --from-photo PHOTO -o DIR [--mask M] [--line L] [--budget 60s | --evals N]\n"
+    "                                             [--start P ... | --no-starts]\n"
     "\n"
     "Starting presets for an artist to tweak by hand.\n"
     "\n"
@@ -43,7 +44,7 @@ static const char help[] =
     "  category and structure (automaton, reaction-diffusion system, layers) kept; of 4N\n"
     "  such variations, the N most different among the nearer half are kept, each with its\n"
     "  feature distance to PRESET (which grows with D; D itself is a step in the genes).\n"
-    "--from-photo PHOTO fits the generator to the photo (as 'squama fit', from its default\n"
+    "--from-photo PHOTO fits the generator to the photo (as 'squama fit', from the same\n"
     "  starting presets) and writes its best preset, each other kind's best by score, then\n"
     "  the rest of the fit's Pareto front (at most N of them), each with its distance to the\n"
     "  photo.\n"
@@ -68,6 +69,9 @@ static const char help[] =
     "  -l, --line LINE      --from-photo: the body's centre line and width (see 'squama prepare')\n"
     "  -b, --budget TIME    --from-photo: the wall time of it all, as fit's (default 60s)\n"
     "      --evals N        --from-photo: an evaluation budget instead (deterministic)\n"
+    "      --start P        --from-photo: a preset, or a folder of presets, the fit's screening\n"
+    "                       starts from (repeatable; default the shipped complex/ and layered/)\n"
+    "      --no-starts      --from-photo: no starting presets\n"
     "      --size N         the sheet's tiles, 32 to 1024 pixels (default 256)\n"
     "      --cols C         the sheet's columns (default: about the square root)\n"
     "  -j, --threads N      threads (default: all cores); the result does not depend on it\n"
@@ -346,7 +350,7 @@ static SqStatus write_all(const char *outdir, const Seeding *s, int size, int co
 
 int cmd_seed(int argc, char **argv)
 {
-    enum { O_NEAR = 1000, O_PHOTO, O_POOL, O_EVALS, O_SIZE, O_COLS, O_JSON };
+    enum { O_NEAR = 1000, O_PHOTO, O_POOL, O_EVALS, O_SIZE, O_COLS, O_JSON, O_START, O_NO_STARTS };
     static const struct option opts[] = {
         {"category", required_argument, NULL, 'c'}, {"near", required_argument, NULL, O_NEAR},
         {"from-photo", required_argument, NULL, O_PHOTO}, {"output", required_argument, NULL, 'o'},
@@ -356,12 +360,14 @@ int cmd_seed(int argc, char **argv)
         {"size", required_argument, NULL, O_SIZE},  {"cols", required_argument, NULL, O_COLS},
         {"threads", required_argument, NULL, 'j'},  {"quiet", no_argument, NULL, 'q'},
         {"json", no_argument, NULL, O_JSON},        {"help", no_argument, NULL, 'h'},
+        {"start", required_argument, NULL, O_START}, {"no-starts", no_argument, NULL, O_NO_STARTS},
         {NULL, 0, NULL, 0}};
     const char *outdir = NULL, *origin = NULL, *mask_path = NULL, *line_path = NULL;
     int mode = 0, category = -1, n = 0, size = 256, cols = 0, json = 0, quiet = 0, distance_given = 0;
     double budget = 0;
     long max_evals = 0;
     SqSeedOptions so = sq_seed_options_default();
+    CliStarts starts = {0}; /* fit's default: the shipped complex and layered presets */
     SqError err;
     int c;
     optind = 0;
@@ -431,6 +437,12 @@ int cmd_seed(int argc, char **argv)
             break;
         case 'q': quiet = 1; break;
         case O_JSON: json = 1; break;
+        case O_START:
+            if (starts.nargs == CLI_START_ARGS)
+                return cli_usage("seed", "--start is given more than %d times: give a folder instead", CLI_START_ARGS);
+            starts.arg[starts.nargs++] = optarg;
+            break;
+        case O_NO_STARTS: starts.none = 1; break;
         case 'h': fputs(help, stdout); return CLI_OK;
         default:
             return cli_bad_option("seed", argv, c, opts);
@@ -449,14 +461,21 @@ int cmd_seed(int argc, char **argv)
         return cli_usage("seed", "say where the presets go with -o DIR");
     if (distance_given && mode != MODE_NEAR)
         return cli_usage("seed", "--distance is for --near");
-    if ((mask_path || line_path || budget > 0 || max_evals > 0) && mode != MODE_PHOTO)
-        return cli_usage("seed", "--mask, --line, --budget and --evals are for --from-photo");
+    if ((mask_path || line_path || budget > 0 || max_evals > 0 || starts.nargs > 0 || starts.none) &&
+        mode != MODE_PHOTO)
+        return cli_usage("seed", "--mask, --line, --budget, --evals, --start and --no-starts are for --from-photo");
+    if (starts.none && starts.nargs > 0)
+        return cli_usage("seed", "--start and --no-starts contradict each other");
     if (so.pool && mode == MODE_PHOTO)
         return cli_usage("seed", "--pool is for --category and --near");
     so.n = n ? n : mode == MODE_PHOTO ? 24 : 12;
 
     if (!usable_dir(outdir, &err))
         return cli_fail(&err);
+    if (mode == MODE_PHOTO && cli_starts_load(&starts, quiet || json, &err) != SQ_OK) {
+        cli_starts_free(&starts);
+        return cli_fail(&err);
+    }
     Progress px = {.tty = isatty(STDERR_FILENO), .quiet = quiet || json};
     so.progress = on_progress;
     so.ctx = &px;
@@ -512,21 +531,16 @@ int cmd_seed(int argc, char **argv)
             fo.front_max = so.n > 24 ? so.n : 24;
             fo.progress = on_fit_progress;
             fo.ctx = &px;
-            CliStarts starts = {0}; /* fit's default: the shipped complex and layered presets */
-            if (cli_starts_load(&starts, 1, &err) != SQ_OK) {
+            fo.starts = starts.params;
+            fo.nstarts = starts.n;
+            if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)
                 rc = cli_fail(&err);
-            } else {
-                fo.starts = starts.params;
-                fo.nstarts = starts.n;
-                if (sq_fit_run(&target, &fo, &fit, &err) != SQ_OK || sq_seed_from_fit(&fit, &so, &r, &err) != SQ_OK)
-                    rc = cli_fail(&err);
-                else {
-                    s.fit = &fit;
-                    s.category = sq_fit_kind_of(&fit.best.params);
-                }
+            else {
+                s.fit = &fit;
+                s.category = sq_fit_kind_of(&fit.best.params);
             }
-            cli_starts_free(&starts);
         }
+        cli_starts_free(&starts);
         sq_fit_prepared_free(&prep);
         cli_photo_free(&in);
     }

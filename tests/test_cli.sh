@@ -653,7 +653,13 @@ v = json.load(open(sys.argv[3]))
 assert v["Pattern_Type"] == "spots" and "variation 00" in v["name"] and "distance to the original" in v["notes"]
 PY
 fi
-run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2
+run seed --category spots --no-starts -o "$TMP/sd"; check "seed --no-starts without a photo" 2 err "--start and --no-starts are for --from-photo"
+run seed --from-photo "$TMP/p.jpg" --start "$TMP/typo.json" --no-starts -o "$TMP/sd"; check "seed --start --no-starts" 2 err "contradict"
+run seed --from-photo "$TMP/p.jpg" --start "$TMP/nowhere.json" --evals 150 -o "$TMP/sdst"
+check "seed --start missing" 1 err "no such starting preset or folder ($TMP/nowhere.json)"
+[ -e "$TMP/sdst" ] && { echo "FAIL: a seed refused for its starts wrote its folder"; fails=$((fails + 1)); }
+# (without the default starts, which cost a sanitized run twice the fit's time)
+run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2 --no-starts
 check "seed --from-photo" 0 out "to photo" out "wrote $TMP/sdp:"
 [ -s "$TMP/sdp/00.json" ] && [ -s "$TMP/sdp/sheet.png" ] || { echo "FAIL: seed --from-photo files"; fails=$((fails + 1)); }
 if command -v python3 >/dev/null; then  # the champion, then other kinds' bests by score

@@ -854,7 +854,9 @@ static void real_photos(void **state)
 
 /* The body lines drawn for real photos (refs/photo_lines/<id>.json, <id> the photo's file
  * name): each reads, and where the photo is here, is followed along its whole length,
- * every point within the photo. */
+ * every point within the photo. The sanitized build follows about a quarter of them (those
+ * whose name's bytes sum to a multiple of 4), the same code on other photos: all 43 cost
+ * it a minute. */
 static void photo_line(const char *path, void *ctx)
 {
     SqBodyLine line;
@@ -862,10 +864,14 @@ static void photo_line(const char *path, void *ctx)
     if (sq_body_line_read(path, &line, &err) != SQ_OK)
         fail_msg("%s (%s)", err.what, err.where);
     const char *base = strrchr(path, '/') + 1;
+    unsigned sum = 0;
+    for (const char *c = base; *c; c++)
+        sum += (unsigned char)*c;
     char photo_path[2048];
     snprintf(photo_path, sizeof photo_path, "%s/photos/%.*s.jpg", SQUAMA_SHARED_DIR, (int)(strlen(base) - 5), base);
     SqImage photo;
-    if (access(photo_path, R_OK) == 0 && sq_io_read_image(photo_path, NULL, &photo, NULL, &err) == SQ_OK) {
+    if ((!sq_sanitized || sum % 4 == 0) && access(photo_path, R_OK) == 0 &&
+        sq_io_read_image(photo_path, NULL, &photo, NULL, &err) == SQ_OK) {
         SqPrepOptions o = sq_fit_prep_options_default();
         o.line = &line;
         o.work_size = 512; /* the length followed is the same as at 1024, in a third of the time */
