@@ -191,29 +191,47 @@ static const double BLUR_SIGMA = 1.0;
 
 enum { BLUR_R_MAX = 16 }; /* taps each side, at most: 3 sigma of 5.3 strip pixels */
 
-/* count lines of n pixels (4 floats each; `step` pixels apart, lines `next` pixels apart),
- * each convolved with k (2 r + 1 taps), clamped at the ends: src to dst. */
-static void blur_lines(float *src, float *dst, int count, int n, size_t step, size_t next, const float *k, int r)
+/* The common blur's two passes over the strip's rows of W pixels (4 floats a pixel: the
+ * weighted L*, a*, b* and the weight), each output the sum over the 2 r + 1 taps of k, in
+ * the taps' order, clamped at the ends. The taps are the outer loop and a row's floats the
+ * inner one, so that the sums run side by side in SIMD lanes, each summed in the same
+ * order as one pixel's taps one after another. */
+
+/* Across: each of len rows along its W pixels, clamped at the band's edges. */
+static void blur_across(const float *restrict src, float *restrict dst, int len, const float *k, int r)
 {
-    for (int line = 0; line < count; line++)
-        for (int i = 0; i < n; i++) {
-            /* four named sums rather than an array: a sanitizer then keeps them in
-             * registers instead of checking a stack array at every tap */
-            float a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-            for (int d = -r; d <= r; d++) {
-                int j = i + d < 0 ? 0 : (i + d >= n ? n - 1 : i + d);
-                const float *p = src + 4 * (line * next + j * step), w = k[d + r];
-                a0 += w * p[0];
-                a1 += w * p[1];
-                a2 += w * p[2];
-                a3 += w * p[3];
-            }
-            float *q = dst + 4 * (line * next + i * step);
-            q[0] = a0;
-            q[1] = a1;
-            q[2] = a2;
-            q[3] = a3;
+    float ext[4 * (W + 2 * BLUR_R_MAX)]; /* the row, its end pixels repeated r times */
+    for (int y = 0; y < len; y++) {
+        const float *row = src + (size_t)4 * W * y;
+        for (int i = -r; i < W + r; i++) {
+            const int j = i < 0 ? 0 : i >= W ? W - 1 : i;
+            memcpy(ext + 4 * (i + r), row + 4 * j, 4 * sizeof(float));
         }
+        float *restrict out = dst + (size_t)4 * W * y;
+        for (int q = 0; q < 4 * W; q++)
+            out[q] = 0;
+        for (int d = 0; d <= 2 * r; d++) {
+            const float w = k[d], *p = ext + 4 * d;
+            for (int q = 0; q < 4 * W; q++)
+                out[q] += w * p[q];
+        }
+    }
+}
+
+/* Along: each of the W columns along its len rows, clamped at the strip's ends. */
+static void blur_along(const float *restrict src, float *restrict dst, int len, const float *k, int r)
+{
+    for (int y = 0; y < len; y++) {
+        float *restrict out = dst + (size_t)4 * W * y;
+        for (int q = 0; q < 4 * W; q++)
+            out[q] = 0;
+        for (int d = -r; d <= r; d++) {
+            const int j = y + d < 0 ? 0 : y + d >= len ? len - 1 : y + d;
+            const float w = k[d + r], *p = src + (size_t)4 * W * j;
+            for (int q = 0; q < 4 * W; q++)
+                out[q] += w * p[q];
+        }
+    }
 }
 
 static int common_blur(float *lab, const SqImage *valid, int len, double sigma)
@@ -238,8 +256,8 @@ static int common_blur(float *lab, const SqImage *valid, int len, double sigma)
         a[4 * i + 2] = lab[3 * i + 2] * wv;
         a[4 * i + 3] = wv;
     }
-    blur_lines(a, b, len, W, 1, W, k, r); /* across, clamped at the band's edges */
-    blur_lines(b, a, W, len, W, 1, k, r);   /* along, clamped at the ends */
+    blur_across(a, b, len, k, r);
+    blur_along(b, a, len, k, r);
     for (size_t i = 0; i < n; i++)
         if (a[4 * i + 3] > 1e-3f && (!valid || valid->px[i] > 0.5f))
             for (int c = 0; c < 3; c++)
