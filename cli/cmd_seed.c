@@ -52,7 +52,7 @@ static const char help[] =
     "DIR (new or empty) receives, all at once when everything is ready:\n"
     "  NN.json     the presets ('squama render' takes them as they are)\n"
     "  seeds.json  per preset its category, the feature distance to the nearest other pick\n"
-    "              and to the original (PRESET or PHOTO); how the pool went\n"
+    "              and to the original (PRESET or PHOTO); how the pool went; the fit's starts\n"
     "  sheet.png   a contact sheet of the presets, labelled\n"
     "\n"
     "options:\n"
@@ -148,6 +148,7 @@ typedef struct Seeding {
     uint64_t seed;
     double distance;
     const SqFitResult *fit;
+    const CliStarts *starts; /* the fit's starting presets */
     const SqSeedResult *r;
 } Seeding;
 
@@ -167,9 +168,15 @@ static cJSON *summary(const Seeding *s)
                             "feature distance: the fit's five objectives between 128-pixel renders' dorsal "
                             "bands (view scale 1), both ways round, each over its typical value between two "
                             "random presets, averaged; about 1 between unrelated presets");
-    if (s->mode == MODE_PHOTO)
+    if (s->mode == MODE_PHOTO) {
         cJSON_AddStringToObject(root, "to_origin",
                                 "the fit's objectives against the photo (its view scale), on the same scale");
+        cJSON *st = cJSON_AddObjectToObject(root, "starts"); /* as fit.json's search.starts */
+        cJSON *sp = cJSON_AddArrayToObject(st, "presets");
+        for (int i = 0; s->starts && i < s->starts->n; i++)
+            cJSON_AddItemToArray(sp, cJSON_CreateString(s->starts->path[i]));
+        cJSON_AddNumberToObject(st, "screened", s->fit ? s->fit->starts_used : 0);
+    }
     cJSON *pool = cJSON_AddObjectToObject(root, "pool");
     cJSON_AddNumberToObject(pool, "drawn", r->drawn);
     cJSON_AddNumberToObject(pool, "failed", r->failed);
@@ -540,7 +547,6 @@ int cmd_seed(int argc, char **argv)
                 s.category = sq_fit_kind_of(&fit.best.params);
             }
         }
-        cli_starts_free(&starts);
         sq_fit_prepared_free(&prep);
         cli_photo_free(&in);
     }
@@ -548,6 +554,7 @@ int cmd_seed(int argc, char **argv)
         fputs("\r\033[K", stderr);
     if (rc == CLI_OK) {
         s.r = &r;
+        s.starts = &starts;
         if (write_all(outdir, &s, size, cols, so.threads, json, &err) != SQ_OK)
             rc = cli_fail(&err);
     }
@@ -566,6 +573,7 @@ int cmd_seed(int argc, char **argv)
     }
     sq_seed_result_free(&r);
     sq_fit_result_free(&fit);
+    cli_starts_free(&starts);
     free(orig);
     free(oinfo);
     return rc;

@@ -658,14 +658,17 @@ run seed --from-photo "$TMP/p.jpg" --start "$TMP/typo.json" --no-starts -o "$TMP
 run seed --from-photo "$TMP/p.jpg" --start "$TMP/nowhere.json" --evals 150 -o "$TMP/sdst"
 check "seed --start missing" 1 err "no such starting preset or folder ($TMP/nowhere.json)"
 [ -e "$TMP/sdst" ] && { echo "FAIL: a seed refused for its starts wrote its folder"; fails=$((fails + 1)); }
-# (without the default starts, which cost a sanitized run twice the fit's time)
-run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2 --no-starts
+run seed --from-photo "$TMP/p.jpg" --mask "$TMP/p_mask.png" --evals 150 -n 3 -o "$TMP/sdp" --size 32 -j 2 \
+  --start "$SRC/presets/complex/cheetah.json"
 check "seed --from-photo" 0 out "to photo" out "wrote $TMP/sdp:"
 [ -s "$TMP/sdp/00.json" ] && [ -s "$TMP/sdp/sheet.png" ] || { echo "FAIL: seed --from-photo files"; fails=$((fails + 1)); }
 if command -v python3 >/dev/null; then  # the champion, then other kinds' bests by score
   python3 - "$TMP/sdp/seeds.json" <<'PY' || { echo "FAIL: seed --from-photo offers"; fails=$((fails + 1)); }
 import json, sys
-p = json.load(open(sys.argv[1]))["presets"]
+s = json.load(open(sys.argv[1]))
+p = s["presets"]
+assert s["starts"]["presets"][0].endswith("/complex/cheetah.json") and len(s["starts"]["presets"]) == 1, s["starts"]
+assert s["starts"]["screened"] == 1, s["starts"]  # the fit's own
 assert len(p) == 3 and p[0].get("front_index") == 0, p
 assert len({x["category"] for x in p}) == 3, p
 assert p[1]["score"] <= p[2]["score"], p
