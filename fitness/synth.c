@@ -416,9 +416,11 @@ SqStatus sq_fit_synth_photo(const SqParams *p, const SqPhotoOptions *opt, SqImag
         sq__ffree(shadow);
     }
 
-    /* the lit body */
+    /* the lit body, a row at a time on each thread (each pixel on its own: the same
+     * photo on any thread count) */
     const Light light = key_light();
     const double circ = 2 * M_PI * r;
+#pragma omp parallel for schedule(dynamic, 8)
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             size_t i = (size_t)y * w + x;

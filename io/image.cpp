@@ -2,6 +2,7 @@
 // at the extern "C" boundary and becomes an SqStatus.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/strutil.h>
 
@@ -271,6 +272,23 @@ extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt,
     }
 }
 
+namespace {
+
+// DejaVu Sans, found once. Named without its path, OpenImageIO 2.4 looks for a font through
+// the font folders on every call (most of a labelled picture's time); a path is opened as
+// it is. Where the system's folders do not have it, its name: OpenImageIO's own search.
+const std::string &label_font()
+{
+    static const std::string font = [] {
+        const std::vector<std::string> dirs = {"/usr/share/fonts", "/usr/local/share/fonts"};
+        std::string path = Filesystem::searchpath_find("DejaVuSans.ttf", dirs, false, true);
+        return path.empty() ? std::string("DejaVuSans") : path;
+    }();
+    return font;
+}
+
+} // namespace
+
 extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *text,
                                     const float color[3], SqError *err)
 {
@@ -283,7 +301,7 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
         // text, then blended into the image where the two overlap: OpenImageIO 2.4's
         // render_text aborts (a failed assertion, not an error) on text that runs over
         // the image's edge, as a label beside a point near the top of a photo does.
-        ROI box = ImageBufAlgo::text_size(text, px_size, "DejaVuSans");
+        ROI box = ImageBufAlgo::text_size(text, px_size, label_font());
         if (!box.defined())
             return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: no DejaVu Sans font found");
         if (box.width() <= 0 || box.height() <= 0) // an empty or inverted box: nothing to draw
@@ -295,7 +313,7 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
         ImageBuf cover(ImageSpec(w, h, 1, TypeDesc::FLOAT));
         ImageBufAlgo::zero(cover);
         const float one = 1.0f;
-        if (!ImageBufAlgo::render_text(cover, x - x0, y - y0, text, px_size, "DejaVuSans", cspan<float>(&one, 1)))
+        if (!ImageBufAlgo::render_text(cover, x - x0, y - y0, text, px_size, label_font(), cspan<float>(&one, 1)))
             return sq_error_set(err, SQ_ERR_UNSUPPORTED, "text", "cannot draw text: %s", cover.geterror().c_str());
         const float *a = static_cast<const float *>(cover.localpixels());
         const int ch = img->channels;

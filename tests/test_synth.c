@@ -1,6 +1,7 @@
 /* Synthetic photos: deterministic, the mask is where the body is, the body shows the
  * preset's colours, the truth describes what was drawn. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -62,10 +63,14 @@ static void photo_of_a_plain_red_snake(void **state)
     if (on < 0.9 * inside)
         fail_msg("%d of %d centre-line points on the mask", on, inside);
 
-    /* the same seed, the same photo */
+    /* the same seed, the same photo, on one thread as on two */
     SqImage photo2, mask2;
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 2);
     assert_int_equal(sq_fit_synth_photo(&p, &o, &photo2, &mask2, NULL, &err), SQ_OK);
+    omp_set_num_threads(threads);
     assert_memory_equal(photo.px, photo2.px, sizeof(float) * 400 * 300 * 3);
+    assert_memory_equal(mask.px, mask2.px, sizeof(float) * 400 * 300);
     sq_image_free(&photo2);
     sq_image_free(&mask2);
     o.seed = 8;
