@@ -150,8 +150,8 @@ extern "C" int sq__cv_grabcut_band(const float *rgb, int w, int h, const uint8_t
                 const size_t i = (size_t)(y + box.y) * w + (x + box.x);
                 m.at<uchar>(y, x) = core[i] ? cv::GC_FGD : band[i] ? cv::GC_PR_FGD : near.data[i] ? cv::GC_PR_BGD : cv::GC_BGD;
             }
-        /* GrabCut's time grows faster than the box's pixels: a wide body's box took it 3
-         * to 20 s at 1024 px. The box is cut at a scale that makes its longer side
+        /* GrabCut's time grows with the box's pixels: a wide body's box took it 3 to 20 s
+         * at 1024 px. The box is cut at a scale that makes its longer side
          * BAND_SIDE pixels, as the automatic mask's GrabCut sees the photo, unless that
          * leaves the body less than BAND_REACH pixels of radius; the body found is scaled
          * back up. */
