@@ -171,11 +171,8 @@ static cJSON *summary(const Seeding *s)
     if (s->mode == MODE_PHOTO) {
         cJSON_AddStringToObject(root, "to_origin",
                                 "the fit's objectives against the photo (its view scale), on the same scale");
-        cJSON *st = cJSON_AddObjectToObject(root, "starts"); /* as fit.json's search.starts */
-        cJSON *sp = cJSON_AddArrayToObject(st, "presets");
-        for (int i = 0; s->starts && i < s->starts->n; i++)
-            cJSON_AddItemToArray(sp, cJSON_CreateString(s->starts->path[i]));
-        cJSON_AddNumberToObject(st, "screened", s->fit ? s->fit->starts_used : 0);
+        cli_starts_json(root, s->starts ? s->starts->path : NULL, s->starts ? s->starts->n : 0,
+                        s->fit ? s->fit->starts_used : 0);
     }
     cJSON *pool = cJSON_AddObjectToObject(root, "pool");
     cJSON_AddNumberToObject(pool, "drawn", r->drawn);

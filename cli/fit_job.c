@@ -261,11 +261,7 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
     cJSON_AddNumberToObject(se, "search_budget_s", fo->budget); /* less the photo's and the outputs' */
     cJSON_AddNumberToObject(se, "max_evaluations", (double)fo->max_evals);
     cJSON_AddNumberToObject(se, "evaluations", (double)r->evals);
-    cJSON *sa = cJSON_AddObjectToObject(se, "starts"); /* the starting presets */
-    cJSON *sp = cJSON_AddArrayToObject(sa, "presets");
-    for (int i = 0; i < fo->nstarts; i++)
-        cJSON_AddItemToArray(sp, cJSON_CreateString(starts[i]));
-    cJSON_AddNumberToObject(sa, "screened", r->starts_used); /* those of kinds fitted */
+    cli_starts_json(se, starts, fo->nstarts, r->starts_used);
     if (clock->resumed_evals > 0 || clock->resumed_s > 0) { /* a resume: what the runs before it spent */
         cJSON *re = cJSON_AddObjectToObject(se, "resumed");
         cJSON_AddNumberToObject(re, "evaluations", (double)clock->resumed_evals);

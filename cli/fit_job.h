@@ -28,6 +28,11 @@ typedef struct CliStarts {
 SqStatus cli_starts_load(CliStarts *s, int quiet, SqError *err);
 void cli_starts_free(CliStarts *s);
 
+/* fit.json's search.starts and seeds.json's starts: {"presets": the n paths, "screened": how
+ * many the fit screened (those of kinds fitted)}, added to parent. */
+struct cJSON;
+void cli_starts_json(struct cJSON *parent, char *const *path, int n, int screened);
+
 typedef struct CliFitJob {
     const char *photo, *mask;  /* mask NULL: the photo's alpha, else made automatically */
     const char *line;          /* a body line to follow, or NULL */

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include <cjson/cJSON.h>
+
 #include "cli.h"
 #include "fit_job.h"
 #include "squama/io.h"
@@ -182,4 +184,13 @@ void cli_starts_free(CliStarts *s)
     s->path = NULL;
     s->params = NULL;
     s->n = 0;
+}
+
+void cli_starts_json(cJSON *parent, char *const *path, int n, int screened)
+{
+    cJSON *st = cJSON_AddObjectToObject(parent, "starts");
+    cJSON *sp = cJSON_AddArrayToObject(st, "presets");
+    for (int i = 0; i < n; i++)
+        cJSON_AddItemToArray(sp, cJSON_CreateString(path[i]));
+    cJSON_AddNumberToObject(st, "screened", screened);
 }
