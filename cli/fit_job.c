@@ -417,6 +417,12 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
         cJSON_AddNumberToObject(e, "seconds", r->history[i].seconds);
         cJSON_AddNumberToObject(e, "best_score", r->history[i].best_score);
         cJSON_AddItemToObject(e, "best", objectives_json(r->history[i].best));
+        if (r->history[i].stage)
+            cJSON_AddStringToObject(e, "stage", r->history[i].stage);
+        if (r->history[i].category >= 0 && isfinite(r->history[i].generation_best)) {
+            cJSON_AddStringToObject(e, "category", sq_fit_kind_name(r->history[i].category));
+            cJSON_AddNumberToObject(e, "generation_best", r->history[i].generation_best);
+        }
         cJSON_AddItemToArray(hi, e);
     }
     (void)target;

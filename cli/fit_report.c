@@ -13,7 +13,18 @@
 
 enum { W = 520, H = 300, ML = 60, MR = 16, MT = 16, MB = 44 };
 
-/* The best score and each objective's best (relative to its first value) against evaluations. */
+/* A colour for each kind, in the convergence plot's dots and legend. */
+static const char *const KIND_COLOUR[SQ_FIT_KINDS] = {"#7f8c8d", "#2980b9", "#8e44ad", "#e67e22",
+                                                      "#16a085", "#c0392b", "#d4ac0d"};
+
+static int history_dot(const SqFitHistory *h)
+{
+    return h->category >= 0 && h->category < SQ_FIT_KINDS && isfinite(h->generation_best) && h->generation_best > 0;
+}
+
+/* Each generation's best score as a dot in its kind's colour, the best so far as a line
+ * (one pattern instance's luck can hold it: the dots show what the search is doing), and
+ * the re-scored champion in green, against evaluations. */
 static void convergence_svg(CliBuf *b, const SqFitResult *r)
 {
     cli_buf_put(b, "<svg width='%d' height='%d' viewBox='0 0 %d %d' font-size='11' font-family='sans-serif'>\n", W, H, W, H);
@@ -23,11 +34,19 @@ static void convergence_svg(CliBuf *b, const SqFitResult *r)
         return;
     }
     double xmax = (double)r->history[r->nhistory - 1].evals, ymin = INFINITY, ymax = -INFINITY;
-    for (int i = 0; i < r->nhistory; i++)
-        if (isfinite(r->history[i].best_score) && r->history[i].best_score > 0) {
-            ymin = fmin(ymin, log10(r->history[i].best_score));
-            ymax = fmax(ymax, log10(r->history[i].best_score));
+    unsigned kinds = 0;
+    for (int i = 0; i < r->nhistory; i++) {
+        const SqFitHistory *h = &r->history[i];
+        if (isfinite(h->best_score) && h->best_score > 0) {
+            ymin = fmin(ymin, log10(h->best_score));
+            ymax = fmax(ymax, log10(h->best_score));
         }
+        if (history_dot(h)) {
+            ymin = fmin(ymin, log10(h->generation_best));
+            ymax = fmax(ymax, log10(h->generation_best));
+            kinds |= 1u << h->category;
+        }
+    }
     if (isfinite(r->best.score) && r->best.score > 0) {
         ymin = fmin(ymin, log10(r->best.score));
         ymax = fmax(ymax, log10(r->best.score));
@@ -47,16 +66,29 @@ static void convergence_svg(CliBuf *b, const SqFitResult *r)
         cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>%.0f</text>\n", ML + pw * t / 4, H - MB + 16, xmax * t / 4);
     }
     cli_buf_put(b, "<text x='%.1f' y='%d' text-anchor='middle'>evaluations</text>\n", ML + pw / 2, H - 8);
-    cli_buf_put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>best score (log)</text>\n",
+    cli_buf_put(b, "<text x='12' y='%.1f' transform='rotate(-90 12 %.1f)' text-anchor='middle'>score (log)</text>\n",
         MT + ph / 2, MT + ph / 2);
-    cli_buf_put(b, "<polyline fill='none' stroke='#c0392b' stroke-width='2' points='");
+    for (int i = 0; i < r->nhistory; i++) {
+        const SqFitHistory *h = &r->history[i];
+        if (history_dot(h))
+            cli_buf_put(b, "<circle cx='%.1f' cy='%.1f' r='2.5' fill='%s' fill-opacity='0.75'><title>%s, a generation's best %.3f</title></circle>\n",
+                PX(h->evals), PY(h->generation_best), KIND_COLOUR[h->category], sq_fit_kind_name(h->category), h->generation_best);
+    }
+    cli_buf_put(b, "<polyline fill='none' stroke='#222' stroke-width='1.5' points='");
     for (int i = 0; i < r->nhistory; i++)
         if (isfinite(r->history[i].best_score) && r->history[i].best_score > 0)
             cli_buf_put(b, "%.1f,%.1f ", PX(r->history[i].evals), PY(r->history[i].best_score));
-    cli_buf_put(b, "'/>\n");
+    cli_buf_put(b, "'><title>the best score so far</title></polyline>\n");
     if (isfinite(r->best.score) && r->best.score > 0)
         cli_buf_put(b, "<circle cx='%.1f' cy='%.1f' r='5' fill='#27ae60'><title>re-scored champion %.3f</title></circle>\n",
             PX(r->evals), PY(r->best.score), r->best.score);
+    double lx = ML;
+    for (int k = 0; k < SQ_FIT_KINDS; k++) /* the legend, above the frame */
+        if ((kinds >> k) & 1u) {
+            cli_buf_put(b, "<circle cx='%.1f' cy='%d' r='3' fill='%s'/><text x='%.1f' y='%d' font-size='10'>%s</text>\n",
+                lx + 3, MT - 7, KIND_COLOUR[k], lx + 8, MT - 3, sq_fit_kind_name(k));
+            lx += 14 + 5.5 * (double)strlen(sq_fit_kind_name(k));
+        }
 #undef PX
 #undef PY
     cli_buf_put(b, "</svg>\n");
@@ -239,6 +271,11 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
     convergence_svg(&b, r);
     front_svg(&b, r, SQ_OBJ_PALETTE, SQ_OBJ_SHAPE);
     front_svg(&b, r, SQ_OBJ_ALONG, SQ_OBJ_ACROSS);
+    cli_buf_put(&b, "<p style='font-size:12px;color:#555;max-width:1100px'>Left: each dot is one generation's best score "
+            "in its kind, the line the best score so far, and the green dot best.json's score once re-scored at "
+            "the finer size over several pattern seeds. A pattern is one random instance: the best so far can be "
+            "one instance's luck, which the dots do not share. The other two plots: the re-scored Pareto front, two objectives at a "
+            "time, best.json in green.</p>\n");
     cli_buf_put(&b, "</div>\n<h2>Front</h2>\n<table><tr><th>preset</th><th>category</th><th>view scale</th>");
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
         cli_buf_put(&b, "<th>%s</th>", sq_fit_objective_name(k));

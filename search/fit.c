@@ -88,6 +88,7 @@ typedef struct Fit {
     int narchive;
     int history_cap;
     double best_score, best_obj[SQ_OBJ_COUNT];
+    double gen_best; /* the last generation's lowest score (NAN: none since the last report) */
     int generation;
     struct {
         double tiling, offset, view;
@@ -294,6 +295,8 @@ static void note_best(Fit *f, const SqFitCandidate *c, int n)
 {
     for (int i = 0; i < n; i++) {
         f->best_score = fmin(f->best_score, c[i].score);
+        if (isfinite(c[i].score))
+            f->gen_best = isnan(f->gen_best) ? c[i].score : fmin(f->gen_best, c[i].score);
         for (int k = 0; k < SQ_OBJ_COUNT; k++)
             f->best_obj[k] = fmin(f->best_obj[k], c[i].obj[k]);
     }
@@ -316,7 +319,12 @@ static void report(Fit *f, const char *stage, int category)
         h->seconds = elapsed(f);
         h->best_score = f->best_score;
         memcpy(h->best, f->best_obj, sizeof h->best);
+        h->stage = stage;
+        const int gen = !strcmp(stage, "evolve") || !strcmp(stage, "layer");
+        h->category = gen ? category : -1;
+        h->generation_best = gen ? f->gen_best : NAN;
     }
+    f->gen_best = NAN;
     if (!f->o.progress)
         return;
     SqFitProgress p = {0};
@@ -2087,7 +2095,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
     SqStatus st = check_options(o, err);
     if (st != SQ_OK)
         return st;
-    Fit f = {.target = target, .o = *o, .r = out, .t0 = now(), .best_score = INFINITY};
+    Fit f = {.target = target, .o = *o, .r = out, .t0 = now(), .best_score = INFINITY, .gen_best = NAN};
     for (int k = 0; k < SQ_OBJ_COUNT; k++)
         f.best_obj[k] = INFINITY;
     sq__rng_seed(&f.rng, o->seed);

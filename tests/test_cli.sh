@@ -419,6 +419,13 @@ assert html.count("<svg") >= 2 and "fitted_strip.png" in html and "preview.png" 
 assert "line.png" in html
 assert "s of search (" in html and "the photo read and prepared" in html and "the outputs written" in html
 assert "kinds.png" in html and all("kinds/%s.json" % x in html for x in k)
+# the convergence plot: a dot for each generation's best, in its kind (the niches' and the layer's)
+h = f["history"]
+g = [x for x in h if "generation_best" in x]
+assert g and all(x["stage"] in ("evolve", "layer") and x["generation_best"] >= x["best_score"] for x in g), g[:3]
+assert all(x["category"] in f["niches"] or x["stage"] == "layer" for x in g), g
+assert all("category" not in x for x in h if x["stage"] not in ("evolve", "layer")), h
+assert html.count("a generation's best") == len(g), (html.count("a generation's best"), len(g))
 assert "layer" in s["seconds"]
 l = f.get("layer_search")  # a layer over the champion, when the budget left room for it
 if l is not None:

@@ -221,6 +221,24 @@ static void recovers_category(void **state)
     assert_true(r.nhistory >= 3);
     for (int i = 1; i < r.nhistory; i++) /* the best so far never gets worse */
         assert_true(r.history[i].best_score <= r.history[i - 1].best_score);
+    /* each generation's own best: a niche's, in its kind, never below the best so far (it
+     * is among what that covers), and above it somewhere (a lucky instance holds the line) */
+    int gens = 0, above = 0;
+    for (int i = 0; i < r.nhistory; i++) {
+        const SqFitHistory *h = &r.history[i];
+        assert_non_null(h->stage);
+        if (strcmp(h->stage, "evolve") != 0 && strcmp(h->stage, "layer") != 0) {
+            assert_int_equal(h->category, -1);
+            assert_true(isnan(h->generation_best));
+            continue;
+        }
+        assert_true(h->category >= 0 && h->category < SQ_FIT_KINDS);
+        assert_true(!strcmp(h->stage, "layer") || r.niche[h->category]);
+        assert_true(h->generation_best >= h->best_score);
+        gens++;
+        above += h->generation_best > h->best_score;
+    }
+    assert_true(gens >= 2 && above >= 1);
     sq_fit_result_free(&r);
 }
 

@@ -386,6 +386,11 @@ typedef struct SqFitOptions {
 typedef struct SqFitHistory {
     long evals;
     double seconds, best_score, best[SQ_OBJ_COUNT];
+    const char *stage;       /* as SqFitProgress's */
+    int category;            /* the kind of the generation ("evolve", "layer"); -1: none */
+    double generation_best;  /* that generation's lowest score; NAN for the other stages. The
+                                best score so far is one lucky pattern instance's: what the
+                                search is doing shows in these */
 } SqFitHistory;
 
 enum { SQ_FIT_STAGES = 4 }; /* screen, evolve, rescore, polish */
