@@ -1,18 +1,18 @@
 /* squama batch: one row fitted into its folder, read back, recorded; rows on local threads. */
-#define _DEFAULT_SOURCE /* syscall() */
+#define _GNU_SOURCE /* posix_spawn_file_actions_addclosefrom_np */
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
+#include <spawn.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
-#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -25,6 +25,9 @@
 #include "squama/io.h"
 #include "squama/search.h"
 #include "thumb.h"
+
+/* The batch's pid, in the environment of the fits it starts (cli_batch_child). */
+#define BATCH_PARENT_ENV "SQUAMA_BATCH_PARENT"
 
 /* FNV-1a (64 bits) of a file's bytes as 16 hex digits, "" when it cannot be read: a row
  * is known by its photo's and mask's contents, not by how their paths were spelled. */
@@ -311,30 +314,39 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
     const char *prog = getenv("SQUAMA_FIT_PROGRAM");
     if (!prog || !prog[0])
         prog = "/proc/self/exe";
-    /* forked, then only async-signal-safe calls until the exec; the child dies with the
-     * thread that started it (a batch killed outright leaves no fit writing into a
-     * .tmp- folder that the next run is fitting again) */
-    const pid_t parent = getpid();
-    const long open_max = sysconf(_SC_OPEN_MAX), maxfd = open_max > 0 && open_max < 65536 ? open_max : 65536;
-    const pid_t pid = fork();
-    if (pid < 0)
-        return sq_error_set(err, SQ_ERR_IO, "batch", "cannot start the fit: %s", strerror(errno));
-    if (pid == 0) {
-        const int fd0 = open("/dev/null", O_RDONLY), fd1 = open("/dev/null", O_WRONLY),
-                  fd2 = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent || fd0 < 0 || fd1 < 0 || fd2 < 0 ||
-            dup2(fd0, 0) < 0 || dup2(fd1, 1) < 0 || dup2(fd2, 2) < 0)
-            _exit(127);
+    /* posix_spawn, not fork: glibc's shares the batch's memory until the exec (vfork), so a
+     * rank whose memory an MPI transport has registered never copies it into a child. The
+     * fit dies with the thread that started it (cli_batch_child): a batch killed outright
+     * leaves no fit writing into a .tmp- folder that the next run is fitting again. */
+    size_t nenv = 0;
+    while (environ[nenv])
+        nenv++;
+    char die_with[64];
+    snprintf(die_with, sizeof die_with, "%s=%ld", BATCH_PARENT_ENV, (long)getpid());
+    char **env = malloc(sizeof *env * (nenv + 2));
+    if (!env)
+        return sq_error_set(err, SQ_ERR_NOMEM, "batch", "out of memory");
+    size_t k = 0;
+    for (size_t i = 0; i < nenv; i++)
+        if (strncmp(environ[i], BATCH_PARENT_ENV "=", sizeof BATCH_PARENT_ENV) != 0)
+            env[k++] = environ[i];
+    env[k++] = die_with;
+    env[k] = NULL;
+    posix_spawn_file_actions_t fa;
+    pid_t pid = -1;
+    int rc = posix_spawn_file_actions_init(&fa);
+    if (rc == 0) {
         /* none of the batch's other files (another row's log, an MPI socket) in the fit */
-        if (syscall(SYS_close_range, 3u, ~0u, 0u) != 0)
-            for (long fd = 3; fd < maxfd; fd++)
-                close((int)fd);
-        execve(prog, (char *const *)argv, environ);
-        static const char msg[] = "squama: cannot start the fit program\n";
-        const ssize_t w = write(2, msg, sizeof msg - 1);
-        (void)w;
-        _exit(127);
+        if ((rc = posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0)) == 0 &&
+            (rc = posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0)) == 0 &&
+            (rc = posix_spawn_file_actions_addopen(&fa, 2, log, O_WRONLY | O_CREAT | O_TRUNC, 0644)) == 0 &&
+            (rc = posix_spawn_file_actions_addclosefrom_np(&fa, 3)) == 0)
+            rc = posix_spawn(&pid, prog, &fa, NULL, (char *const *)argv, env);
+        posix_spawn_file_actions_destroy(&fa);
     }
+    free(env);
+    if (rc != 0)
+        return sq_error_set(err, SQ_ERR_IO, "batch", "cannot start the fit (%s): %s", prog, strerror(rc));
     int status;
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR)
@@ -350,6 +362,27 @@ static SqStatus fit_in_child(const CliFitJob *job, const char *log, RowFit *out,
         return sq_error_set(err, SQ_ERR_INTERNAL, NULL, "%s", msg);
     }
     return read_fit_json(job->outdir, out, err);
+}
+
+/* In a fit that a batch started (BATCH_PARENT_ENV, set by the batch): it dies with the
+ * batch thread that started it (SIGKILL when that thread ends), and at once when the batch
+ * has gone already. A wrapper between them (SQUAMA_FIT_PROGRAM) is taken as the parent. */
+void cli_batch_child(void)
+{
+    const char *v = getenv(BATCH_PARENT_ENV);
+    if (!v)
+        return;
+    char *end;
+    errno = 0;
+    const long parent = strtol(v, &end, 10);
+    const int ok = errno == 0 && end != v && !*end && parent > 0;
+    unsetenv(BATCH_PARENT_ENV); /* not for whatever this process starts */
+    if (!ok)
+        return;
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0)
+        return;
+    if (getppid() != (pid_t)parent && kill((pid_t)parent, 0) != 0 && errno == ESRCH)
+        _exit(127);
 }
 
 void batch_fit_row(const Batch *b, int i, BatchResult *out)

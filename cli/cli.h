@@ -24,6 +24,8 @@ int cmd_score(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
 int cmd_seed(int argc, char **argv);
 int cmd_batch(int argc, char **argv);
+/* At the start of every squama process: a fit started by a batch dies with it (batch.c). */
+void cli_batch_child(void);
 
 /* The handler main() sets for SIGINT, SIGTERM and SIGHUP: removes the temporary files of
  * the writes under way (sq_io_remove_temps), then ends the program by the signal. */

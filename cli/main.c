@@ -67,6 +67,7 @@ static void at_exit(void)
 
 int main(int argc, char **argv)
 {
+    cli_batch_child();
     static const int fatal[] = {SIGINT, SIGTERM, SIGHUP};
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) {
         struct sigaction sa = {0}, old;

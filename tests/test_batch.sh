@@ -247,6 +247,12 @@ EOF
   grep '"id":"k1"' "$out" | grep -q '"resumed":true' || fail "k1 was fitted again after the kill"
   [ "$(catalogue_ids "$TMP/k" ok)" = "k1 k2" ] || fail "after the kill: $(catalogue_ids "$TMP/k" ok)"
   ls -a "$TMP/k" | grep -q '^\.tmp-' && fail "a partial row was left after the rerun"
+  # the fits are spawned, and set their own death with the batch (SQUAMA_BATCH_PARENT): one
+  # whose batch has gone before it got that far ends at once; a wrapper in between is no batch gone
+  sh -c 'exit 0' & dead=$!; wait $dead
+  SQUAMA_BATCH_PARENT=$dead "$SQ" --version >/dev/null 2>&1; rc=$?
+  [ $rc = 127 ] || fail "a fit whose batch had gone went on (exit $rc, not 127)"
+  SQUAMA_BATCH_PARENT=1 "$SQ" --version >/dev/null 2>&1 || fail "a fit under a wrapper of its batch did not run"
 
   # a fit that crashes (a library's failed assertion aborts it) costs its row, not the
   # batch: each row is fitted in a process of its own ($SQUAMA_FIT_PROGRAM stands in for
