@@ -100,9 +100,12 @@ static void progress(const SqFitProgress *p, void *ctx)
     }
     double rate = p->elapsed > 0 ? p->evals / p->elapsed : 0;
     if (x->json) {
+        char gen[48] = "";
+        if (isfinite(p->generation_best))
+            snprintf(gen, sizeof gen, ", \"generation_best\": %.4f", p->generation_best);
         printf("{\"stage\": \"%s\", \"generation\": %d, \"evaluations\": %ld, \"seconds\": %.2f, "
-               "\"evaluations_per_s\": %.1f, \"best_score\": %.4f, \"category\": \"%s\"}\n",
-               p->stage, p->generation, p->evals, p->elapsed, rate, p->best_score,
+               "\"evaluations_per_s\": %.1f, \"best_score\": %.4f%s, \"category\": \"%s\"}\n",
+               p->stage, p->generation, p->evals, p->elapsed, rate, p->best_score, gen,
                sq_fit_kind_name(p->category));
         fflush(stdout);
         return;
@@ -121,9 +124,12 @@ static void progress(const SqFitProgress *p, void *ctx)
     char left[32] = "";
     if (x->budget > 0)
         snprintf(left, sizeof left, "%3.0fs left", fmax(0, x->budget - p->elapsed));
-    fprintf(stderr, "\r[%s] %-7s gen %4d  %6ld evals %5.0f/s  best %.3f (pal %.2f shape %.2f along %.2f) %-12s %s\033[K",
+    char gen[24] = ""; /* what the generation just scored: the best so far can be one lucky instance */
+    if (isfinite(p->generation_best))
+        snprintf(gen, sizeof gen, "  this gen %.3f", p->generation_best);
+    fprintf(stderr, "\r[%s] %-7s gen %4d  %6ld evals %5.0f/s  best %.3f (pal %.2f shape %.2f along %.2f)%s %-12s %s\033[K",
             bar, p->stage, p->generation, p->evals, rate, p->best_score, p->best[SQ_OBJ_PALETTE],
-            p->best[SQ_OBJ_SHAPE], p->best[SQ_OBJ_ALONG], sq_fit_kind_name(p->category), left);
+            p->best[SQ_OBJ_SHAPE], p->best[SQ_OBJ_ALONG], gen, sq_fit_kind_name(p->category), left);
     fflush(stderr);
 }
 

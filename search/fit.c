@@ -313,6 +313,9 @@ static void report(Fit *f, const char *stage, int category)
             f->history_cap = cap;
         }
     }
+    const int gen = !strcmp(stage, "evolve") || !strcmp(stage, "layer");
+    const double gen_best = gen ? f->gen_best : NAN;
+    f->gen_best = NAN;
     if (r->nhistory < f->history_cap) {
         SqFitHistory *h = &r->history[r->nhistory++];
         h->evals = f->evals;
@@ -320,11 +323,9 @@ static void report(Fit *f, const char *stage, int category)
         h->best_score = f->best_score;
         memcpy(h->best, f->best_obj, sizeof h->best);
         h->stage = stage;
-        const int gen = !strcmp(stage, "evolve") || !strcmp(stage, "layer");
         h->category = gen ? category : -1;
-        h->generation_best = gen ? f->gen_best : NAN;
+        h->generation_best = gen_best;
     }
-    f->gen_best = NAN;
     if (!f->o.progress)
         return;
     SqFitProgress p = {0};
@@ -334,6 +335,7 @@ static void report(Fit *f, const char *stage, int category)
     p.elapsed = elapsed(f);
     p.budget = f->o.budget;
     p.best_score = f->best_score;
+    p.generation_best = gen_best;
     memcpy(p.best, f->best_obj, sizeof p.best);
     p.category = category;
     p.front = f->archive;

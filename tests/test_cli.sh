@@ -555,6 +555,10 @@ import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 assert len(lines) >= 3 and all("evaluations" in l for l in lines[:-1]), lines[:2]
 assert "best" in lines[-1] and lines[-1]["best"].endswith("best.json"), lines[-1]
+# a niche's generation says what it scored itself, beside the best so far; the other stages do not
+gens = [l for l in lines[:-1] if l["stage"] == "evolve"]
+assert gens and all(l["generation_best"] >= l["best_score"] for l in gens), gens[:2]
+assert all("generation_best" not in l for l in lines[:-1] if l["stage"] not in ("evolve", "layer")), lines
 PY
 fi
 # (two kinds resumed: every kind's presets in the checkpoint are read, two searched on)

@@ -347,6 +347,7 @@ typedef struct SqFitProgress {
     long evals;
     double elapsed, budget;  /* seconds (budget 0: none) */
     double best_score;       /* the lowest score so far (noisy before re-scoring) */
+    double generation_best;  /* the last generation's lowest ("evolve", "layer"); else NAN */
     double best[SQ_OBJ_COUNT]; /* the lowest value of each objective so far */
     int category;            /* the kind (niche) of the last generation */
     const SqFitCandidate *front; /* the archive's Pareto front so far */
