@@ -23,9 +23,10 @@
  *       the photo's features as a fit's target sees them, and the best automaton and spot
  *       lattice read off its strip, as one JSON object ("-": the mask made as squama fit
  *       makes one)
- *   bench_recovery texfeatures PRESET VIEW SIZE
+ *   bench_recovery texfeatures PRESET VIEW SIZE [PHOTO MASK|-]
  *       the same (without the readings) for the preset's candidate strip at view scale VIEW
- *       under the key light, its maps SIZE texels square
+ *       under the key light, its maps SIZE texels square; with a photo, under the photo's
+ *       light and blur, as a fit scores it against that photo
  *   (the kind-prior experiment's inputs: docs/recovery.md, session 35) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -252,8 +253,9 @@ static int photo_features_json(const char *photo, const char *mask)
 }
 
 /* The same, without the readings, for a preset's candidate strip at a view scale under the
- * key light, its maps SIZE texels square, its reaction-diffusion grid the fit's (48 cells). */
-static int tex_features_json(const char *preset, double view, int size)
+ * key light, its maps SIZE texels square, its reaction-diffusion grid the fit's (48 cells);
+ * with a photo (and its mask), under the photo's light and blur, as the fit sees it. */
+static int tex_features_json(const char *preset, double view, int size, const char *photo, const char *mask)
 {
     if (size < 16 || size > 4096 || !(view > 0)) {
         fprintf(stderr, "bench_recovery: texfeatures wants a view scale over 0 and a size of 16 to 4096\n");
@@ -265,10 +267,12 @@ static int tex_features_json(const char *preset, double view, int size)
         return fail(&e);
     p.RD_Cells = 48; /* as the fit's candidates are (search/fit.c FIT_RD_CELLS) */
     SqTextures maps = {0};
-    SqFeatures f;
-    const int rc = features(&p, p.Seed, size, view, &maps, &f, NULL, NULL);
+    SqFeatures f, ph, lit;
+    if (photo && photo_features(photo, mask, &ph, NULL))
+        return 1;
+    const int rc = features(&p, p.Seed, size, view, &maps, &f, photo ? &ph : NULL, &lit);
     if (!rc)
-        print_features(&f, NULL, NULL, 0, 0);
+        print_features(photo ? &lit : &f, NULL, NULL, 0, 0);
     sq_gen_textures_free(&maps);
     return rc;
 }
@@ -281,12 +285,13 @@ int main(int argc, char **argv)
         return compare(argv + 2);
     if (argc == 4 && strcmp(argv[1], "features") == 0)
         return photo_features_json(argv[2], argv[3]);
-    if (argc == 5 && strcmp(argv[1], "texfeatures") == 0)
-        return tex_features_json(argv[2], atof(argv[3]), atoi(argv[4]));
+    if ((argc == 5 || argc == 7) && strcmp(argv[1], "texfeatures") == 0)
+        return tex_features_json(argv[2], atof(argv[3]), atoi(argv[4]), argc == 7 ? argv[5] : NULL,
+                                 argc == 7 ? argv[6] : NULL);
     fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
                     "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM...\n"
                     "       (one NORM per objective, in the order of sq_fit_objective_name)\n"
                     "       bench_recovery features PHOTO MASK|-\n"
-                    "       bench_recovery texfeatures PRESET VIEW SIZE\n");
+                    "       bench_recovery texfeatures PRESET VIEW SIZE [PHOTO MASK|-]\n");
     return 2;
 }
