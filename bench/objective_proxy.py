@@ -10,7 +10,9 @@ objectives. A trial build (a switch in the environment, say) scored the same way
 two counts compared, says whether a change to the objectives moves that bound before a
 benchmark's worth of fitting is spent on it. It is necessary, not sufficient: the fits'
 impostors were found under the old objectives, and a search under the new ones finds new
-ones (docs/recovery.md, sessions 46 and 56).
+ones; and they were recoloured toward the photo's palette after the pick, the truth not, so
+the count leans to the impostors, alike for base and trial (docs/recovery.md, sessions 46
+and 56).
 
 usage: bench/objective_proxy.py score RUN_DIR --squama BIN --out SCORES.json [--jobs N]
        bench/objective_proxy.py compare BASE.json [TRIAL.json ...]
