@@ -67,6 +67,8 @@ def score_row(squama, run, row):
     if not found:
         sys.exit("objective_proxy: no folder for row %d in %s" % (i, run))
     d = found[0]
+    if not os.path.isfile(os.path.join(d, "squama", "fit.json")):
+        sys.exit("objective_proxy: row %d was not fitted (no %s)" % (i, os.path.join(d, "squama", "fit.json")))
     with open(os.path.join(d, "squama", "fit.json")) as f:
         fit = json.load(f)
     e = {"category": row["category"], "fitted": row["fitted"], "norm": [fit["norm"][o] for o in OBJECTIVES],
@@ -82,6 +84,8 @@ def score_row(squama, run, row):
 
 
 def cmd_score(a):
+    if not os.path.isfile(os.path.join(a.run, "rows.json")):
+        sys.exit("objective_proxy: no recovery run here (no %s)" % os.path.join(a.run, "rows.json"))
     with open(os.path.join(a.run, "rows.json")) as f:
         rows = json.load(f)
     out = {}
@@ -127,6 +131,9 @@ def cmd_compare(a):
         with open(path) as f:
             runs.append(json.load(f))
     base = runs[0]
+    for path, run in zip(a.scores[1:], runs[1:]):
+        if set(run) != set(base):
+            sys.exit("objective_proxy: %s scored other rows than %s" % (path, a.scores[0]))
     beats = [0] * len(runs)
     lowest = [0] * len(runs)
     lost = [[0.0] * len(OBJECTIVES) for _ in runs], [[0.0] * len(OBJECTIVES) for _ in runs]
