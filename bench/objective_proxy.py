@@ -12,7 +12,11 @@ benchmark's worth of fitting is spent on it. It is necessary, not sufficient: th
 impostors were found under the old objectives, and a search under the new ones finds new
 ones; and they were recoloured toward the photo's palette after the pick, the truth not, so
 the count leans to the impostors, alike for base and trial (docs/recovery.md, sessions 46
-and 56).
+and 56). A change that stops charging what the kinds' bests can tune and the fixed truth
+cannot (its contrast, its colours) raises that count without helping a fit (session 57:
+27 to 34, the fits 29 to 24); the count of rows whose lowest kind is a right one moved
+with the fits there (27 to 24), so a change that raises the first and not the second is
+suspect before any fitting.
 
 usage: bench/objective_proxy.py score RUN_DIR --squama BIN --out SCORES.json [--jobs N]
        bench/objective_proxy.py compare BASE.json [TRIAL.json ...]
