@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -38,6 +39,74 @@ std::string first_line(std::string s)
     return s.empty() ? std::string("unknown reason") : s;
 }
 
+// OpenImageIO 2.4's PNG reader records libpng's error and returns from libpng's error
+// handler, so libpng's default handler runs after it and prints the same error on stderr
+// ("libpng error: IHDR: CRC error") before the squama error that names the file. While a
+// PNG is read, stderr goes to a temporary file; what arrives there is passed on after,
+// less those lines. Reads take turns: the redirection is the whole process's.
+class LibpngErrorsDropped {
+  public:
+    LibpngErrorsDropped() : turn_(turns())
+    {
+        std::fflush(stderr);
+        if ((tmp_ = std::tmpfile()) && (saved_ = dup(2)) >= 0 && dup2(fileno(tmp_), 2) < 0) {
+            close(saved_);
+            saved_ = -1;
+        }
+    }
+    ~LibpngErrorsDropped()
+    {
+        if (saved_ >= 0) {
+            std::fflush(stderr);
+            dup2(saved_, 2);
+            close(saved_);
+            std::rewind(tmp_);
+            char line[1024];
+            bool start = true; // at the start of a line (fgets splits longer ones)
+            while (std::fgets(line, sizeof line, tmp_)) {
+                if (!start || std::strncmp(line, "libpng error: ", 14) != 0)
+                    std::fputs(line, stderr);
+                start = std::strchr(line, '\n') != nullptr;
+            }
+        }
+        if (tmp_)
+            std::fclose(tmp_);
+    }
+    LibpngErrorsDropped(const LibpngErrorsDropped &) = delete;
+    LibpngErrorsDropped &operator=(const LibpngErrorsDropped &) = delete;
+
+  private:
+    static std::mutex &turns()
+    {
+        static std::mutex m;
+        return m;
+    }
+    std::lock_guard<std::mutex> turn_;
+    FILE *tmp_ = nullptr;
+    int saved_ = -1;
+};
+
+bool is_png(const char *path)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char head[8];
+    FILE *f = std::fopen(path, "rb");
+    const bool png = f && std::fread(head, 1, 8, f) == 8 && std::memcmp(head, sig, 8) == 0;
+    if (f)
+        std::fclose(f);
+    return png;
+}
+
+// A reader's message without the file's name where it quotes it ("... (\"photo.jpg\")"),
+// as OpenImageIO's JPEG reader does: the squama error names the file once, at its end.
+std::string unquoted(std::string msg, const char *path)
+{
+    const std::string quoted = std::string(" (\"") + path + "\")";
+    for (size_t at = msg.find(quoted); at != std::string::npos; at = msg.find(quoted, at))
+        msg.erase(at, quoted.size());
+    return msg;
+}
+
 SqStatus read_image(const char *path, const SqReadOptions *opt, SqImage *rgba, SqImage *mask,
                     SqError *err)
 {
@@ -54,7 +123,7 @@ SqStatus read_image(const char *path, const SqReadOptions *opt, SqImage *rgba, S
     auto in = ImageInput::open(path, &config);
     if (!in)
         return sq_error_set(err, SQ_ERR_PARSE, path, "not a readable image: %s",
-                            first_line(OIIO::geterror()).c_str());
+                            unquoted(first_line(OIIO::geterror()), path).c_str());
     const ImageSpec &spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1)
         return sq_error_set(err, SQ_ERR_UNSUPPORTED, path,
@@ -69,7 +138,7 @@ SqStatus read_image(const char *path, const SqReadOptions *opt, SqImage *rgba, S
     const int w = spec.width, h = spec.height, nch = spec.nchannels;
     std::vector<float> buf((size_t)npix * (size_t)nch);
     if (!in->read_image(0, 0, 0, nch, TypeDesc::FLOAT, buf.data()) || in->has_error()) {
-        std::string msg = first_line(in->geterror());
+        std::string msg = unquoted(first_line(in->geterror()), path);
         return sq_error_set(err, SQ_ERR_PARSE, path, "corrupt or truncated image: %s",
                             msg.c_str());
     }
@@ -256,6 +325,10 @@ extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt,
     if (mask)
         std::memset(mask, 0, sizeof *mask);
     try {
+        if (is_png(path)) {
+            LibpngErrorsDropped quiet;
+            return read_image(path, opt, rgba, mask, err);
+        }
         return read_image(path, opt, rgba, mask, err);
     } catch (const std::bad_alloc &) {
         sq_image_free(rgba);

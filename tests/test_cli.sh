@@ -301,6 +301,16 @@ check "prepare mask of another size" 1 err "the mask is 4x8 but the photo is 320
 run prepare "$TMP/none.jpg" -o "$TMP/prep3"; check "prepare missing photo" 1 err "cannot open image"
 mkdir -p "$TMP/afolder.jpg" "$TMP/afolder.json"
 run prepare "$TMP/afolder.jpg" -o "$TMP/prep3"; check "prepare a folder" 1 err "cannot open image: it is a folder ($TMP/afolder.jpg)"
+# a PNG cut short: one line that names it, not libpng's own line before it as well
+head -c 300 "$TMP/p_mask.png" >"$TMP/cut.png"
+# (OpenImageIO leaks its error string there; lsan.supp names it in the full stack)
+ASAN_OPTIONS=fast_unwind_on_malloc=0:detect_leaks=1 run prepare "$TMP/p.jpg" --mask "$TMP/cut.png" -o "$TMP/prep3"
+check "prepare a mask cut short" 1 err "corrupt or truncated image: " err "($TMP/cut.png)"
+! grep -q "LeakSanitizer" "$err" || { echo "FAIL: a PNG cut short leaked:"; cat "$err"; fails=$((fails + 1)); }
+! grep -q "libpng error" "$err" || { echo "FAIL: a PNG cut short printed libpng's line too:"; cat "$err"; fails=$((fails + 1)); }
+head -c 3000 "$TMP/p.jpg" >"$TMP/cut.jpg" # named once, though the JPEG reader's message names it too
+run prepare "$TMP/cut.jpg" -o "$TMP/prep3"; check "prepare a photo cut short" 1 err "corrupt or truncated image: JPEG error: "
+[ "$(grep -o "$TMP/cut.jpg" "$err" | wc -l)" = 1 ] || { echo "FAIL: a JPEG cut short named more than once:"; cat "$err"; fails=$((fails + 1)); }
 run presets validate "$TMP/afolder.json"; check "validate a folder" 1 err "cannot read preset: Is a directory"
 printf '{"format": "squama-preset/1", "Seed": 2147483648}' >"$TMP/seed.json"
 run presets validate "$TMP/seed.json"; check "an integer out of range, printed whole" 1 err '"Seed" is 2147483648, outside its range [0, 2147483647]'
