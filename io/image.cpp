@@ -1,5 +1,6 @@
-// Image read/write through OpenImageIO: the one C++ file of io/. Every exception stops
-// at the extern "C" boundary and becomes an SqStatus.
+// Image read/write through OpenImageIO: the one C++ file of io/, built as the image module
+// (libsquama_image.so) that module.c opens at the first image. Every exception stops at
+// the module's table of C functions and becomes an SqStatus.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/filesystem.h>
@@ -316,10 +317,7 @@ SqStatus write_image(const char *path, const SqImage *img, const SqWriteOptions 
     return sq__io_commit(tmp, path, err);
 }
 
-} // namespace
-
-extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt, SqImage *rgba,
-                                     SqImage *mask, SqError *err)
+SqStatus read_any(const char *path, const SqReadOptions *opt, SqImage *rgba, SqImage *mask, SqError *err)
 {
     std::memset(rgba, 0, sizeof *rgba);
     if (mask)
@@ -345,8 +343,6 @@ extern "C" SqStatus sq_io_read_image(const char *path, const SqReadOptions *opt,
     }
 }
 
-namespace {
-
 // DejaVu Sans, found once. Named without its path, OpenImageIO 2.4 looks for a font through
 // the font folders on every call (most of a labelled picture's time); a path is opened as
 // it is. Where the system's folders do not have it, its name: OpenImageIO's own search.
@@ -360,10 +356,8 @@ const std::string &label_font()
     return font;
 }
 
-} // namespace
-
-extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, const char *text,
-                                    const float color[3], SqError *err)
+SqStatus draw_text(SqImage *img, int x, int y, int px_size, const char *text, const float color[3],
+                   SqError *err)
 {
     if (!img || !img->px || img->channels < 3 || !text)
         return sq_error_set(err, SQ_ERR_INVALID, "text", "no colour image to draw on");
@@ -407,13 +401,12 @@ extern "C" SqStatus sq_io_draw_text(SqImage *img, int x, int y, int px_size, con
     }
 }
 
-extern "C" const char *sq_io_image_under_way(void)
+const char *image_under_way()
 {
     return under_way.load();
 }
 
-extern "C" SqStatus sq_io_write_image(const char *path, const SqImage *img,
-                                      const SqWriteOptions *opt, SqError *err)
+SqStatus write_any(const char *path, const SqImage *img, const SqWriteOptions *opt, SqError *err)
 {
     try {
         return write_image(path, img, opt, err);
@@ -424,4 +417,13 @@ extern "C" SqStatus sq_io_write_image(const char *path, const SqImage *img,
     } catch (...) {
         return sq_error_set(err, SQ_ERR_INTERNAL, path, "cannot write image");
     }
+}
+
+const SqImageModule table = {SQ_IMAGE_MODULE_ABI, read_any, write_any, draw_text, image_under_way};
+
+} // namespace
+
+extern "C" const SqImageModule *sq__image_module(void)
+{
+    return &table;
 }

@@ -110,6 +110,24 @@ check "render png" 0 out "wrote $TMP/r/deep/basecolor.png" out "64x48 spots patt
 for m in basecolor height roughness normal; do
   [ -s "$TMP/r/deep/$m.png" ] || { echo "FAIL: $m.png missing"; fails=$((fails + 1)); }
 done
+# OpenImageIO is in a module opened at the first image (io/module.c): a command without
+# images does not load it, one with images does; a squama beside a module that is not one
+# says so and writes nothing
+loads_oiio() {
+  rm -f "$TMP"/ld.*
+  LD_DEBUG=files LD_DEBUG_OUTPUT="$TMP/ld" "$SQ" "$@" >/dev/null 2>&1
+  grep -qs "libOpenImageIO" "$TMP"/ld.*
+}
+loads_oiio params && { echo "FAIL: squama params loaded OpenImageIO"; fails=$((fails + 1)); }
+loads_oiio render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/ld" --size 32 ||
+  { echo "FAIL: squama render did not load OpenImageIO"; fails=$((fails + 1)); }
+rm -f "$TMP"/ld.*
+mkdir -p "$TMP/moved" && cp "$SQ" "$TMP/moved/squama" && echo "not a library" >"$TMP/moved/libsquama_image.so"
+"$TMP/moved/squama" render "$SRC/presets/thesis/table_4_4_spots.json" -o "$TMP/r/moved" --size 32 >"$out" 2>"$err"
+echo $? >"$TMP/rc"
+check "render beside a broken image module" 1 err "cannot read or write images: squama's image module did not load: " \
+  err "($TMP/moved/libsquama_image.so)"
+[ -e "$TMP/r/moved" ] && { echo "FAIL: a render without its image module made its folder"; fails=$((fails + 1)); }
 # the maps are a set: a render that cannot write one of them leaves the ones there before
 cp -r "$TMP/r/deep" "$TMP/r/set" && rm "$TMP/r/set/normal.png" && mkdir "$TMP/r/set/normal.png"
 cp "$TMP/r/set/basecolor.png" "$TMP/r/set_before.png"
