@@ -6,7 +6,7 @@ find_package(OpenMP REQUIRED COMPONENTS C)
 
 if(NOT SQUAMA_FUZZ)
   find_package(OpenImageIO CONFIG REQUIRED)
-  find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc ximgproc saliency)
+  find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc saliency)
   pkg_check_modules(NLOPT REQUIRED IMPORTED_TARGET nlopt)
   find_package(GSL REQUIRED)
   find_package(Threads REQUIRED)

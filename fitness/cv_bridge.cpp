@@ -1,7 +1,6 @@
 // OpenCV behind a C interface for photo preparation. Exceptions stop here.
 #include <opencv2/imgproc.hpp>
 #include <opencv2/saliency.hpp>
-#include <opencv2/ximgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -230,26 +229,6 @@ extern "C" int sq__cv_distance(const uint8_t *mask, int w, int h, float *dist)
         cv::Mat m(h, w, CV_8UC1, const_cast<uint8_t *>(mask)), d(h, w, CV_32FC1, dist);
         cv::distanceTransform(m, d, cv::DIST_L2, cv::DIST_MASK_5);
         return d.data == reinterpret_cast<uchar *>(dist) ? 0 : -1;
-    } catch (...) {
-        return -1;
-    }
-}
-
-extern "C" int sq__cv_thin(const uint8_t *mask, int w, int h, uint8_t *skeleton)
-{
-    try {
-        /* thinned within the mask's bounding box and a pixel of margin: each pass of the
-         * thinning visits every pixel it is given, and the skeleton cannot leave the box */
-        cv::Mat m(h, w, CV_8UC1, const_cast<uint8_t *>(mask)), s;
-        cv::Mat out(h, w, CV_8UC1, skeleton);
-        out.setTo(0);
-        cv::Rect box = cv::boundingRect(m);
-        if (box.area() == 0)
-            return 0;
-        box = (box + cv::Size(2, 2) - cv::Point(1, 1)) & cv::Rect(0, 0, w, h);
-        cv::ximgproc::thinning(m(box), s, cv::ximgproc::THINNING_ZHANGSUEN);
-        s.copyTo(out(box));
-        return out.data == skeleton ? 0 : -1;
     } catch (...) {
         return -1;
     }

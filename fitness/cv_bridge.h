@@ -44,9 +44,6 @@ int sq__cv_clean_mask(uint8_t *mask, int w, int h, int radius, double max_hole);
 /* Euclidean distance of every mask pixel to the nearest background pixel. */
 int sq__cv_distance(const uint8_t *mask, int w, int h, float *dist);
 
-/* Zhang-Suen thinning to a one-pixel skeleton. */
-int sq__cv_thin(const uint8_t *mask, int w, int h, uint8_t *skeleton);
-
 #ifdef __cplusplus
 }
 #endif

@@ -3,6 +3,7 @@
 #define SQUAMA_FITNESS_INTERNAL_H
 
 #include <math.h>
+#include <stdint.h>
 
 #include "squama/fitness.h"
 
@@ -25,6 +26,10 @@ static inline float sq__linear_to_srgb_lut(float v)
     int i = (int)(sqrtf(v > 0 ? v : 0) * SQ_LIN_N + 0.5f);
     return sq__srgb_lut[i > SQ_LIN_N ? SQ_LIN_N : i];
 }
+
+/* Zhang-Suen thinning of mask's nonzero pixels to a one-pixel skeleton (255) in skel (prep.c).
+ * Returns 0, or -1 out of memory. */
+int sq__thin(const uint8_t *mask, int w, int h, uint8_t *skel);
 
 /* k-means in CIELAB: the k dominant colours of n Lab pixels (by decreasing weight). */
 void sq__palette(const float *lab, int n, int k, float (*centre)[3], float *weight);

@@ -113,6 +113,73 @@ static void debug_save(const SqPrepOptions *o, const char *name, const SqImage *
         fprintf(stderr, "squama: cannot save a debug image: %s (%s)\n", err.what, err.where);
 }
 
+/* Zhang-Suen thinning (Zhang & Suen 1984, as OpenCV's ximgproc has it) of the mask's
+ * nonzero pixels to a one-pixel skeleton of 255s, within the mask's bounding box and a pixel
+ * of margin. The box's own edge is kept as it is (OpenCV's rule): where the body touches the
+ * image's edge, so does its skeleton. Written here rather than taken from ximgproc, which
+ * brings GDAL, HDF5 and a hundred more libraries with it: a tenth of a second at every start
+ * of squama. Returns 0, or -1 out of memory. */
+int sq__thin(const uint8_t *mask, int w, int h, uint8_t *skel)
+{
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    size_t body = 0;
+    memset(skel, 0, (size_t)w * h);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            if (mask[(size_t)y * w + x]) {
+                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+                y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+                skel[(size_t)y * w + x] = 1;
+                body++;
+            }
+    if (!body)
+        return 0;
+    x0 = x0 > 0 ? x0 - 1 : 0, y0 = y0 > 0 ? y0 - 1 : 0;
+    x1 = x1 < w - 1 ? x1 + 1 : w - 1, y1 = y1 < h - 1 ? y1 + 1 : h - 1;
+    size_t *live = malloc(sizeof *live * body), *gone = malloc(sizeof *gone * body), n = 0;
+    if (!live || !gone) {
+        free(live), free(gone);
+        return -1;
+    }
+    for (int y = y0 + 1; y < y1; y++) /* the pixels that may go: the body's, off the box's edge */
+        for (int x = x0 + 1; x < x1; x++)
+            if (skel[(size_t)y * w + x])
+                live[n++] = (size_t)y * w + x;
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (int pass = 0; pass < 2; pass++) {
+            size_t ng = 0;
+            for (size_t k = 0; k < n; k++) {
+                const uint8_t *p = skel + live[k];
+                const int p2 = p[-w], p3 = p[1 - w], p4 = p[1], p5 = p[w + 1], p6 = p[w], p7 = p[w - 1],
+                          p8 = p[-1], p9 = p[-w - 1];
+                const int a = (!p2 && p3) + (!p3 && p4) + (!p4 && p5) + (!p5 && p6) + (!p6 && p7) +
+                              (!p7 && p8) + (!p8 && p9) + (!p9 && p2); /* 0-to-1 steps around it */
+                const int b = p2 + p3 + p4 + p5 + p6 + p7 + p8 + p9;
+                const int m1 = pass == 0 ? p2 && p4 && p6 : p2 && p4 && p8;
+                const int m2 = pass == 0 ? p4 && p6 && p8 : p2 && p6 && p8;
+                if (a == 1 && b >= 2 && b <= 6 && !m1 && !m2)
+                    gone[ng++] = live[k];
+            }
+            for (size_t g = 0; g < ng; g++) /* after the pass: each pixel judged on the same image */
+                skel[gone[g]] = 0;
+            if (ng) {
+                changed = 1;
+                size_t m = 0;
+                for (size_t k = 0; k < n; k++)
+                    if (skel[live[k]])
+                        live[m++] = live[k];
+                n = m;
+            }
+        }
+    }
+    free(live), free(gone);
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            skel[(size_t)y * w + x] = skel[(size_t)y * w + x] ? 255 : 0;
+    return 0;
+}
+
 /* The longest path (in pixels) through the skeleton: the farthest pixel from any pixel,
  * then the farthest from that one (exact for a tree). Returns the path's length and its
  * pixel indices in path (malloc'd). */
@@ -438,8 +505,10 @@ static void analyse(Body *b, int w, int h)
         WHY(SQ_ERR_INVALID, "the body found in the mask covers %.2f%% of the photo (%.1f%% at least): no snake to see",
             100.0 * kept / ((double)w * h), 100.0 / MIN_SHARE);
     /* distance to the edge, skeleton, its longest path */
-    if (sq__cv_distance(b->m8, w, h, b->dist) || sq__cv_thin(b->m8, w, h, b->skel))
+    if (sq__cv_distance(b->m8, w, h, b->dist))
         WHY(SQ_ERR_INTERNAL, "OpenCV could not find the body's centre line");
+    if (sq__thin(b->m8, w, h, b->skel))
+        WHY(SQ_ERR_NOMEM, "out of memory thinning the body to its centre line");
     b->n = longest_path(b->skel, w, h, &b->path);
     if (b->n < 0)
         WHY(SQ_ERR_NOMEM, "out of memory following the centre line");

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "fitness_internal.h"
 #include "sq_test.h"
 #include "squama/fitness.h"
 #include "squama/io.h"
@@ -47,6 +48,99 @@ static double worst_distance(const SqPrepared *prep, const SqPhotoTruth *t)
         worst = fmax(worst, best);
     }
     return worst;
+}
+
+/* The skeleton of a bar, a ring and a bar on the image's edge: one pixel wide, in one
+ * 8-connected piece, inside the shape; the bar's straight down its middle, the ring's closed
+ * (no ends), the edge bar's reaching the edge (the box's edge is kept, as OpenCV's ximgproc
+ * keeps it). */
+static int skeleton_facts(const uint8_t *mask, const uint8_t *skel, int w, int h, int *ends, int *left)
+{
+    int n = 0, first = -1;
+    *ends = 0, *left = w;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const int i = y * w + x;
+            if (!skel[i])
+                continue;
+            assert_int_equal(skel[i], 255);
+            assert_true(mask[i]); /* inside the shape */
+            if (x + 1 < w && y + 1 < h) /* one pixel wide: no 2x2 block */
+                assert_false(skel[i + 1] && skel[i + w] && skel[i + w + 1]);
+            int nb = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++)
+                    nb += (dx || dy) && x + dx >= 0 && x + dx < w && y + dy >= 0 && y + dy < h &&
+                          skel[(y + dy) * w + x + dx];
+            *ends += nb == 1;
+            *left = x < *left ? x : *left;
+            n++, first = first < 0 ? i : first;
+        }
+    /* one piece: a flood from the first pixel reaches them all */
+    int *stack = malloc(sizeof(int) * (size_t)w * h), top = 0, seen = 0;
+    uint8_t *mark = calloc((size_t)w * h, 1);
+    assert_non_null(stack), assert_non_null(mark);
+    if (first >= 0)
+        stack[top++] = first, mark[first] = 1;
+    while (top) {
+        const int i = stack[--top], x = i % w, y = i / w;
+        seen++;
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                const int j = (y + dy) * w + x + dx;
+                if ((dx || dy) && x + dx >= 0 && x + dx < w && y + dy >= 0 && y + dy < h && skel[j] && !mark[j])
+                    mark[j] = 1, stack[top++] = j;
+            }
+    }
+    assert_int_equal(seen, n);
+    free(stack), free(mark);
+    return n;
+}
+
+static void thinning_leaves_a_centre_line(void **state)
+{
+    (void)state;
+    enum { W = 80, H = 60 };
+    uint8_t mask[W * H], skel[W * H];
+    int ends, left;
+    memset(mask, 0, sizeof mask);
+    assert_int_equal(sq__thin(mask, W, H, skel), 0);
+    for (int i = 0; i < W * H; i++)
+        assert_int_equal(skel[i], 0); /* nothing from nothing */
+
+    for (int y = 20; y < 32; y++) /* a bar 60 long, 12 thick */
+        for (int x = 10; x < 70; x++)
+            mask[y * W + x] = 255;
+    assert_int_equal(sq__thin(mask, W, H, skel), 0);
+    const int bar = skeleton_facts(mask, skel, W, H, &ends, &left);
+    assert_true(bar >= 40 && bar <= 70);
+    assert_int_equal(ends, 2);
+    int row = -1; /* straight, down the middle */
+    for (int i = 0; i < W * H; i++)
+        if (skel[i]) {
+            assert_true(row < 0 || i / W == row);
+            row = i / W;
+        }
+    assert_true(row == 25 || row == 26);
+
+    memset(mask, 0, sizeof mask);
+    for (int y = 0; y < H; y++) /* a ring, radii 12 to 20 */
+        for (int x = 0; x < W; x++) {
+            const double r = hypot(x - 40, y - 30);
+            mask[y * W + x] = r >= 12 && r <= 20 ? 255 : 0;
+        }
+    assert_int_equal(sq__thin(mask, W, H, skel), 0);
+    const int ring = skeleton_facts(mask, skel, W, H, &ends, &left);
+    assert_true(ring > 2 * 3.14 * 14 && ring < 2 * 3.14 * 18 * 1.5);
+    assert_int_equal(ends, 0);
+
+    memset(mask, 0, sizeof mask);
+    for (int y = 20; y < 32; y++) /* a bar from the image's left edge */
+        for (int x = 0; x < 50; x++)
+            mask[y * W + x] = 255;
+    assert_int_equal(sq__thin(mask, W, H, skel), 0);
+    skeleton_facts(mask, skel, W, H, &ends, &left);
+    assert_int_equal(left, 0);
 }
 
 static void straightening_follows_the_body(void **state)
@@ -904,6 +998,7 @@ static void photo_lines(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(thinning_leaves_a_centre_line),
         cmocka_unit_test(straightening_follows_the_body),
         cmocka_unit_test(coiled_body_in_stretches),
         cmocka_unit_test(light_from_the_shading),
