@@ -43,7 +43,9 @@ static void load_image_module(void)
     if (!slash || snprintf(path, sizeof path, "%.*s/%s", (int)(slash - exe), exe, SQ_IMAGE_MODULE_FILE) < 0 ||
         access(path, F_OK) != 0)
         snprintf(path, sizeof path, "%s/%s", SQUAMA_MODULE_DIR, SQ_IMAGE_MODULE_FILE);
-    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    /* lazily bound, as a linked library is: binding all of OpenImageIO's libraries' functions
+     * now costs 40 ms a command (and the module's calls into io are checked by every write) */
+    void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
     if (!h) {
         const char *why = dlerror();
         size_t len = strlen(path); /* glibc's reason starts with the path, which goes last */
