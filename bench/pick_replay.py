@@ -13,8 +13,14 @@ With --weights the five objectives are weighed anew instead: each kind's final o
 it prints the best combinations and, as a check against fitting 38 rows, the best one on
 the even rows scored on the odd ones and back (docs/recovery.md, session 45).
 
+With --recoloured the pick is made again after the recolouring, on each kind's final score
+(kinds.KIND.score, recoloured where that scored better), the layered kind leading only when
+it beats the others' pick by LAYER_LEAD as in search/fit.c. The fit itself does not pick
+again (the category stays the search's pick); this prints the rows a second pick would move.
+
 usage: bench/pick_replay.py RUN_DIR [RUN_DIR ...] [--plain 0.05,0.1,0.3] [--parsimony 0.05]
        bench/pick_replay.py RUN_DIR [RUN_DIR ...] --weights 0.25,0.5,1,2,4
+       bench/pick_replay.py RUN_DIR [RUN_DIR ...] --recoloured
 (RUN_DIR: a recovery --out folder, e.g. build-bench/recovery; its NN_category/squama/fit.json)
 """
 import argparse
@@ -25,6 +31,7 @@ import os
 
 OBJECTIVES = ("palette", "histogram", "shape", "along", "across")
 PLAIN = 0.3  # search/fit.c PLAIN_PARSIMONY
+LAYER_LEAD = 0.2  # search/fit.c: a layered skin leads when it beats the champion by this
 
 # search/fit.c simplicity(): the simpler explanation first
 SIMPLICITY = {"none": 0, "longitudinal": 1, "transversal": 1, "spots": 2, "other_simple": 3,
@@ -37,6 +44,23 @@ def pick(scores, plain, parsimony):
         return "none"
     near = [k for k, v in scores.items() if v <= (1 + parsimony) * best]
     return min(near, key=lambda k: (SIMPLICITY[k], scores[k]))
+
+
+def recoloured(fits):
+    """The pick made again on the kinds' final scores; the rows it would move."""
+    right = mine = 0
+    for name, truth, j in fits:
+        scores = {k: v["score"] for k, v in j["kinds"].items() if k != "layered"}
+        p = pick(scores, PLAIN, 0.05)
+        lay = j["kinds"].get("layered")
+        if lay and lay["score"] <= (1 - LAYER_LEAD) * scores[p]:
+            p = "layered"
+        right += p == truth
+        mine += j["category"] == truth
+        if p != j["category"]:
+            print("%s: %s -> %s (%s); %s" % (name, j["category"], p, "right" if p == truth else "wrong", ", ".join(
+                "%s %.3f" % kv for kv in sorted(((k, v["score"]) for k, v in j["kinds"].items()), key=lambda kv: kv[1])[:3])))
+    print("re-picked after the recolouring: %d of %d right (the fits' own: %d)" % (right, len(fits), mine))
 
 
 def weighed(fits, grid):
@@ -73,6 +97,7 @@ def main():
     ap.add_argument("--parsimony", type=float, default=0.05,
                     help="the margin for every other kind (default 0.05, as search/fit.c)")
     ap.add_argument("--weights", help="weigh the objectives anew: the weights each may take, comma-separated")
+    ap.add_argument("--recoloured", action="store_true", help="pick again on the kinds' recoloured scores")
     args = ap.parse_args()
     kept = []  # (run, NN_category, fit.json)
     for run in args.runs:
@@ -83,6 +108,9 @@ def main():
                     kept.append((run, os.path.basename(d), json.load(f)))
     if not kept:
         raise SystemExit("pick_replay: no fit.json under " + ", ".join(args.runs))
+    if args.recoloured:
+        recoloured([("%s/%s" % (os.path.basename(run.rstrip("/")), name), name[3:], j) for run, name, j in kept])
+        return
     if args.weights:
         weighed([(int(name[:2]), name[3:], j) for _, name, j in kept], [float(x) for x in args.weights.split(",")])
         return
