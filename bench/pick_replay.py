@@ -14,9 +14,11 @@ it prints the best combinations and, as a check against fitting 38 rows, the bes
 the even rows scored on the odd ones and back (docs/recovery.md, session 45).
 
 With --recoloured the pick is made again after the recolouring, on each kind's final score
-(kinds.KIND.score, recoloured where that scored better), the layered kind leading only when
-it beats the others' pick by LAYER_LEAD as in search/fit.c. The fit itself does not pick
-again (the category stays the search's pick); this prints the rows a second pick would move.
+(kinds.KIND.score, recoloured where that scored better), the layered kind (unless it was a
+niche) leading only when it beats the others' pick by LAYER_LEAD, as search/fit.c's
+sq_fit_pick_kind does. Fits since session 59 pick again themselves (fit.json first_pick,
+repicked): on their runs it names only the rows where the pattern picked could not be seen
+and the first pick stayed; on older runs, the rows a second pick would move.
 
 usage: bench/pick_replay.py RUN_DIR [RUN_DIR ...] [--plain 0.05,0.1,0.3] [--parsimony 0.05]
        bench/pick_replay.py RUN_DIR [RUN_DIR ...] --weights 0.25,0.5,1,2,4
@@ -50,15 +52,16 @@ def recoloured(fits):
     """The pick made again on the kinds' final scores; the rows it would move."""
     right = mine = 0
     for name, truth, j in fits:
-        scores = {k: v["score"] for k, v in j["kinds"].items() if k != "layered"}
-        p = pick(scores, PLAIN, 0.05)
+        lead = "layered" not in j.get("niches", [])
+        scores = {k: v["score"] for k, v in j["kinds"].items() if not (lead and k == "layered")}
+        p = pick(scores, PLAIN, 0.05) if scores else None
         lay = j["kinds"].get("layered")
-        if lay and lay["score"] <= (1 - LAYER_LEAD) * scores[p]:
+        if lead and lay and (p is None or lay["score"] * (1 + LAYER_LEAD) < scores[p]):
             p = "layered"
         right += p == truth
         mine += j["category"] == truth
         if p != j["category"]:
-            print("%s: %s -> %s (%s); %s" % (name, j["category"], p, "right" if p == truth else "wrong", ", ".join(
+            print("%s: %s -> %s (%s); %s" % (name, j.get("first_pick", j["category"]), p, "right" if p == truth else "wrong", ", ".join(
                 "%s %.3f" % kv for kv in sorted(((k, v["score"]) for k, v in j["kinds"].items()), key=lambda kv: kv[1])[:3])))
     print("re-picked after the recolouring: %d of %d right (the fits' own: %d)" % (right, len(fits), mine))
 

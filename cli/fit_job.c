@@ -305,7 +305,12 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
                             "band's texels by more than 5 CIEDE2000; layer_search); last, the champion and each "
                             "other kind's best have their colours moved toward the photo's palette, kept when "
                             "that scores better (kinds.KIND.recoloured; recolour) and, for the champion, when a "
-                            "pattern or layer that showed still shows: the category stays the pick's");
+                            "pattern or layer that showed still shows; then the pick is made again by the same "
+                            "rule on the kinds' bests so recoloured (a layered skin that was not a niche still "
+                            "needing its 20%, a pattern nobody can see not taken): first_pick is the kind picked "
+                            "before, repicked says whether another one leads now");
+    cJSON_AddStringToObject(root, "first_pick", sq_fit_kind_name(r->first_pick));
+    cJSON_AddBoolToObject(root, "repicked", r->repicked);
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));
     cJSON_AddBoolToObject(root, "plain_twin", r->plain_twin);
     cJSON_AddBoolToObject(root, "plain_of_pattern", r->plain_of_pattern);

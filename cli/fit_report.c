@@ -185,6 +185,11 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
             "re-scored Pareto front with the lowest score, except that a plain skin within 30%% of it is preferred, "
             "else the simplest category within 5%% of it (plain, then stripes or bands, then spots, then automata, "
             "then layered patterns, then reaction-diffusion: the simpler explanation). ");
+    if (r->repicked)
+        cli_buf_put(&b, "Every kind's best had its colours moved toward the photo's palette after the pick, and the pick "
+                "was made again on them by the same rule: %s (%.3f) leads now, where %s (%.3f) was picked first. ",
+            sq_fit_kind_name(sq_fit_kind_of(&r->best.params)), r->best.score, sq_fit_kind_name(r->first_pick),
+            r->kind_best[r->first_pick].score);
     if (r->plain_of_pattern)
         cli_buf_put(&b, "The plain skin is the best pattern's plain twin (its scales, view scale and light, no "
                 "pattern), which scored better than the best plain skin searched for. ");
@@ -197,7 +202,8 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
                 "colour), but its plain twin scored %.3f, more than 5%% worse: the pattern stays. ",
             100 * r->visibility, r->twin_score);
     if (r->polish_before > 0)
-        cli_buf_put(&b, "The nlopt polish moved it from %.3f to %.3f (%s).", r->polish_before, r->polish_after,
+        cli_buf_put(&b, "The nlopt polish moved %s from %.3f to %.3f (%s).",
+            r->repicked ? "the first pick" : "it", r->polish_before, r->polish_after,
             r->polish_kept ? "kept" : "not kept");
     else
         cli_buf_put(&b, "The nlopt polish did not run (%s).", r->stopped ? "stopped early" : "no budget left");
@@ -241,9 +247,9 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
     cli_buf_put(&b, "<figure><a href='kinds.png'><img class='wide' src='kinds.png' alt='each kind&#39;s best'></a>"
             "<figcaption>The straightened body and, under it, each kind's best fit seen the same way (the first "
             "twelve body widths); best.json's kind in green. Each is a preset in kinds/; a <em>recoloured</em> one had its "
-            "colours moved toward the photo's palette after the pick, and scores better so. The pick compared the "
-            "kinds before that (the table's \"at the pick\"), so another kind may now score better than best.json's "
-            "and still not be chosen.</figcaption></figure>\n");
+            "colours moved toward the photo's palette after the pick, and scores better so. The pick was then made "
+            "again on those scores by the same rule, a simpler kind within its margin still going first (the table's "
+            "\"at the pick\" gives the scores the first pick compared).</figcaption></figure>\n");
     cli_buf_put(&b, "<table><tr><th>category</th><th>best re-scored score</th><th>at the pick</th><th>preset</th><th>view scale</th>"
             "<th>evolved</th></tr>\n");
     for (int c = 0; c < SQ_FIT_KINDS; c++) {

@@ -30,6 +30,10 @@ static const double PARSIMONY = 0.05;
  * already (docs/recovery.md, session 19). */
 static const double PLAIN_PARSIMONY = 0.30;
 
+/* A layered skin searched over the champion leads only when it scores this fraction
+ * better (layer_search). */
+static const double LAYER_LEAD = 0.2;
+
 /* The reaction-diffusion grid of the fit's complex candidates (RD_Cells). */
 enum { FIT_RD_CELLS = 48 };
 
@@ -1228,6 +1232,27 @@ static int simplicity(int category)
     }
 }
 
+int sq_fit_pick_kind(const double score[SQ_FIT_KINDS], int layer_lead)
+{
+    double low = INFINITY;
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        if (!(layer_lead && k == SQ_FIT_LAYERED) && score[k] < low)
+            low = score[k];
+    int pick = -1;
+    for (int k = 0; k < SQ_FIT_KINDS; k++) {
+        const double margin = k == SQ_PATTERN_NONE ? PLAIN_PARSIMONY : PARSIMONY;
+        if ((layer_lead && k == SQ_FIT_LAYERED) || !(score[k] < INFINITY) || !(score[k] <= (1 + margin) * low))
+            continue;
+        if (pick < 0 || simplicity(k) < simplicity(pick) ||
+            (simplicity(k) == simplicity(pick) && score[k] < score[pick]))
+            pick = k;
+    }
+    const double l = score[SQ_FIT_LAYERED];
+    if (layer_lead && l < INFINITY && (pick < 0 || l * (1 + LAYER_LEAD) < score[pick]))
+        pick = SQ_FIT_LAYERED;
+    return pick;
+}
+
 static int cmp_float(const void *a, const void *b)
 {
     float x = *(const float *)a, y = *(const float *)b;
@@ -1571,7 +1596,7 @@ static void keep_kind_best(SqFitResult *r, const SqFitCandidate *c)
     }
 }
 
-static const double LAYER_SHARE = 0.5, LAYER_LEAD = 0.2, LAYER_VIEW = 1.05, LAYER_VISIBLE = 0.05;
+static const double LAYER_SHARE = 0.5, LAYER_VIEW = 1.05, LAYER_VISIBLE = 0.05;
 
 /* c with src's pattern as its one layer, blended normally at full opacity. */
 static SqFitCandidate layered_over(const SqFitCandidate *c, const SqFitCandidate *src)
@@ -1902,20 +1927,21 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
     if (r->nfront == 0)
         return sq_error_set(err, SQ_ERR_INTERNAL, "fit", "no candidate could be rendered");
     qsort(r->front, (size_t)r->nfront, sizeof *r->front, cmp_score);
-    /* the simpler explanation: the simplest category with a candidate within PARSIMONY of
-     * the best (a plain skin: PLAIN_PARSIMONY) leads the front (a pattern whose colours
-     * match the background is a plain skin too; an automaton stretched along the body is
-     * stripes) */
-    const SqFitCandidate *simple = NULL;
+    /* the simpler explanation (sq_fit_pick_kind): the simplest kind with a candidate within
+     * PARSIMONY of the best (a plain skin: PLAIN_PARSIMONY) leads the front (a pattern whose
+     * colours match the background is a plain skin too; an automaton stretched along the
+     * body is stripes); the layered kind, when it is a niche, as simple as its rank */
+    const SqFitCandidate *low[CATEGORIES] = {0};
+    double score[CATEGORIES];
     for (int i = 0; i < nfin; i++) {
-        const SqFitCandidate *c = &fin[i];
-        const double margin = sq_fit_kind_of(&c->params) == SQ_PATTERN_NONE ? PLAIN_PARSIMONY : PARSIMONY;
-        if (!isfinite(c->score) || c->score > (1 + margin) * r->front[0].score)
-            continue;
-        int rc = simplicity(sq_fit_kind_of(&c->params)), rs = simple ? simplicity(sq_fit_kind_of(&simple->params)) : 99;
-        if (rc < rs || (rc == rs && c->score < simple->score))
-            simple = c;
+        const int k = sq_fit_kind_of(&fin[i].params);
+        if (isfinite(fin[i].score) && (!low[k] || fin[i].score < low[k]->score))
+            low[k] = &fin[i];
     }
+    for (int k = 0; k < CATEGORIES; k++)
+        score[k] = low[k] ? low[k]->score : INFINITY;
+    const int pick = sq_fit_pick_kind(score, 0);
+    const SqFitCandidate *simple = pick >= 0 ? low[pick] : NULL;
     if (simple && simplicity(sq_fit_kind_of(&simple->params)) < simplicity(sq_fit_kind_of(&r->front[0].params))) {
         const SqFitCandidate lead = *simple;
         int k = r->nfront < nfin ? r->nfront : nfin - 1;
@@ -1945,15 +1971,24 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
 
 /* c, the champion changed after the pick (polished, recoloured), leads the front as
  * best.json; whoever it dominates leaves the front, but for a plain twin's invisible
- * pattern behind it (plain_twin). */
-static void lead_front(SqFitResult *r, const SqFitCandidate *c)
+ * pattern behind it (plain_twin). With ahead, c is another candidate, picked again: it goes
+ * ahead of the champion, which stays unless c dominates it, the front growing by one up to
+ * front_max (out of memory: c replaces it). */
+static void lead_front(SqFitResult *r, const SqFitCandidate *c, int ahead, int front_max)
 {
+    const SqFitCandidate lead = *c;
+    SqFitCandidate *grown = ahead ? realloc(r->front, sizeof *grown * (size_t)(r->nfront + 1)) : NULL;
+    if (grown) {
+        r->front = grown;
+        memmove(r->front + 1, r->front, sizeof *r->front * (size_t)r->nfront);
+        r->nfront++;
+    }
     int k = 1;
     for (int i = 1; i < r->nfront; i++)
-        if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(c->obj, r->front[i].obj, SQ_OBJ_COUNT))
+        if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(lead.obj, r->front[i].obj, SQ_OBJ_COUNT))
             r->front[k++] = r->front[i];
-    r->nfront = k;
-    r->front[0] = r->best = *c;
+    r->nfront = k < front_max ? k : front_max;
+    r->front[0] = r->best = lead;
 }
 
 /* Candidates' colours moved toward the photo's palette (sq__recoloured), each way scored
@@ -1996,25 +2031,29 @@ static void recolour(Fit *f, const SqFitCandidate *c, int n, SqFitCandidate *bet
  * session 28), so the alternatives a user is handed were often the right pattern in the
  * wrong colours; and on real photos the champion too (the polish moves its colours little).
  * Not before the pick: recoloured niches lost more categories than they gained (a pattern
- * aimed at the photo's palette imitates a plain skin's shading); after it, the category
- * stays the pick's. The champion, recoloured, must still show what it showed: a visible
- * pattern stays visible, a layer stays LAYER_VISIBLE. It comes after the search: up to
- * SQ_FIT_KINDS * (1 + SQ_RECOLOUR_WAYS + reseeds) renders at the fine size, beyond an
- * evaluation budget; a time budget kept their time back (tail_seconds). */
-static void recolour_kinds(Fit *f, int champion)
+ * aimed at the photo's palette imitates a plain skin's shading); after it, the pick is
+ * made again on the recoloured bests (sq__fit_repick). The champion, recoloured, must
+ * still show what it showed: a visible pattern stays visible, a layer stays
+ * LAYER_VISIBLE. It comes after the search: up to SQ_FIT_KINDS * (1 + SQ_RECOLOUR_WAYS +
+ * reseeds) renders at the fine size, beyond an evaluation budget; a time budget kept their
+ * time back (tail_seconds). before and after receive each kind's score before its
+ * recolouring and its best recoloured way's, re-scored (0: none scored better at the fine
+ * size). */
+static void recolour_kinds(Fit *f, int champion, double before[SQ_FIT_KINDS], double after[SQ_FIT_KINDS])
 {
     SqFitResult *r = f->r;
-    if (r->stopped || f->o.method != SQ_FIT_SQUAMA)
-        return;
     const double t = now();
     const long e0 = f->evals;
     SqFitCandidate c[SQ_FIT_KINDS], better[SQ_FIT_KINDS];
     int kind[SQ_FIT_KINDS], n = 0;
-    for (int k = 0; k < SQ_FIT_KINDS; k++)
+    for (int k = 0; k < SQ_FIT_KINDS; k++) {
+        before[k] = r->kind_best[k].score;
+        after[k] = 0;
         if (isfinite(r->kind_best[k].score)) {
             kind[n] = k;
             c[n++] = r->kind_best[k];
         }
+    }
     recolour(f, c, n, better);
     int m = 0;
     for (int i = 0; i < n; i++)
@@ -2023,11 +2062,9 @@ static void recolour_kinds(Fit *f, int champion)
             kind[m++] = kind[i];
         }
     rescore(f, better, m);
-    r->recolour_before = r->best.score;
     for (int i = 0; i < m; i++) {
         const SqParams *p = &better[i].params;
-        if (kind[i] == champion)
-            r->recolour_after = better[i].score;
+        after[kind[i]] = better[i].score;
         if (!(better[i].score < r->kind_best[kind[i]].score))
             continue;
         if (kind[i] == SQ_FIT_LAYERED && /* a layer recoloured into its ground is none */
@@ -2045,7 +2082,7 @@ static void recolour_kinds(Fit *f, int champion)
         r->kind_best[kind[i]] = better[i];
         r->kind_recoloured[kind[i]] = 1;
         if (kind[i] == champion) {
-            lead_front(r, &better[i]);
+            lead_front(r, &better[i], 0, f->o.front_max);
             r->visibility = vis;
         }
     }
@@ -2053,12 +2090,36 @@ static void recolour_kinds(Fit *f, int champion)
     r->recolour_seconds = now() - t;
 }
 
+/* The pick made again once every kind's best is recoloured (search_internal.h). */
+void sq__fit_repick(SqFitResult *r, const SqFitOptions *o, const double before[], const double after[])
+{
+    double score[SQ_FIT_KINDS];
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        score[k] = r->kind_best[k].score;
+    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED]);
+    if (pick < 0 || pick == r->first_pick)
+        return;
+    double vis = 0, dom[3];
+    if (pick != SQ_PATTERN_NONE) {
+        vis = sq_fit_pattern_visibility(&r->kind_best[pick].params, o->fine_size, o->band_centre, dom, NULL);
+        if (!(vis >= VISIBLE_MIN))
+            return;
+    }
+    r->repicked = 1;
+    r->plain_twin = r->plain_of_pattern = 0;
+    r->twin_score = 0;
+    r->visibility = vis;
+    r->recolour_before = before[pick];
+    r->recolour_after = after[pick];
+    lead_front(r, &r->kind_best[pick], 1, o->front_max);
+}
+
 /* Each kind's best once the champion is polished: the front's members after the polish and
  * the plain twin count too (the polished pattern behind its plain twin is its kind's best),
  * the champion stands for its own kind (best.json), and a layered skin whose layer does not
  * show (LAYER_VISIBLE, as the layered champion's must) is none; then every kind's best,
- * the champion's included, is recoloured (recolour_kinds). The category scores stay the
- * ones the pick compared. */
+ * the champion's included, is recoloured (recolour_kinds) and the pick made again on them
+ * (sq__fit_repick). The category scores stay the ones the first pick compared. */
 static void kinds_final(Fit *f)
 {
     SqFitResult *r = f->r;
@@ -2069,11 +2130,18 @@ static void kinds_final(Fit *f)
     }
     const int champion = sq_fit_kind_of(&r->best.params);
     r->kind_best[champion] = r->best;
+    r->first_pick = champion;
     SqFitCandidate *l = &r->kind_best[SQ_FIT_LAYERED];
     if (champion != SQ_FIT_LAYERED && isfinite(l->score) &&
         !(sq_fit_layer_visibility(&l->params, f->o.fine_size, f->o.band_centre, NULL) >= LAYER_VISIBLE))
         l->score = INFINITY;
-    recolour_kinds(f, champion);
+    if (r->stopped || f->o.method != SQ_FIT_SQUAMA)
+        return;
+    r->recolour_before = r->best.score;
+    double before[SQ_FIT_KINDS], after[SQ_FIT_KINDS];
+    recolour_kinds(f, champion, before, after);
+    r->recolour_after = after[champion];
+    sq__fit_repick(r, &f->o, before, after);
 }
 
 int sq_fit_kinds_offered(const SqFitResult *r, int order[SQ_FIT_KINDS])
@@ -2234,7 +2302,7 @@ SqStatus sq_fit_run(const SqFeatures *target, const SqFitOptions *o, SqFitResult
         SqFitCandidate champ = out->best;
         polish(&f, &champ);
         if (out->polish_kept)
-            lead_front(out, &champ);
+            lead_front(out, &champ, 0, o->front_max);
         out->front[0] = out->best;
         out->seconds[3] = now() - t;
         report(&f, "polish", sq_fit_kind_of(&out->best.params));

@@ -403,6 +403,8 @@ assert t["search"] >= sum(t[x] for x in ("screen", "evolve", "rescore", "layer",
 c = json.load(open(os.path.join(os.path.dirname(sys.argv[1]), "checkpoint", "checkpoint.json")))
 assert t["prepare"] <= c["seconds"] <= t["prepare"] + t["search"], (c["seconds"], t)
 assert f["category"] in f["category_scores"]
+# picked again after the recolouring: the first pick named, and whether another kind leads now
+assert f["first_pick"] in f["category_scores"] and f["repicked"] == (f["first_pick"] != f["category"]), f["first_pick"]
 # the starts: a file, and a folder's presets; those of kinds fitted screened (layered is not by default)
 st = s["starts"]
 assert st["presets"][0].endswith("/complex/cheetah.json") and len(st["presets"]) > 1, st
@@ -424,7 +426,7 @@ for kind, e in k.items():
     assert set(e["objectives"]) == set(f["objectives"])
     if kind == f["category"]:
         assert e["score"] == f["score"] and params(e["preset"]) == params("best.json"), kind
-        assert isinstance(e["recoloured"], bool), kind  # best.json recoloured too, its category the pick's
+        assert isinstance(e["recoloured"], bool), kind  # best.json recoloured too
     else:  # the pick's score, or a front member's after the polish (a recoloured one below it)
         assert e["score"] <= f["category_scores"][kind], (kind, e["score"])
         assert isinstance(e["recoloured"], bool) and (not e["recoloured"] or e["score"] < f["category_scores"][kind]), e

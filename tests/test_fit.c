@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "../search/search_internal.h" /* sq__recoloured */
+#include "../search/search_internal.h" /* sq__recoloured, sq__fit_repick */
 #include "sq_test.h"
 #include "squama/preset.h"
 #include "squama/search.h"
@@ -65,7 +65,7 @@ static void assert_plain_rule(const SqFitResult *r)
     for (int k = 0; k < SQ_FIT_KINDS; k++)
         best = fmin(best, r->category_score[k]);
     if (r->category_score[SQ_PATTERN_NONE] <= 1.30 * best)
-        assert_int_equal(sq_fit_kind_of(&r->best.params), SQ_PATTERN_NONE);
+        assert_int_equal(r->first_pick, SQ_PATTERN_NONE);
     if (r->plain_of_pattern) { /* the best pattern's plain twin beat the plain niche's best */
         assert_int_equal(sq_fit_kind_of(&r->best.params), SQ_PATTERN_NONE);
         assert_true(r->best.score < r->category_score[SQ_PATTERN_NONE]);
@@ -115,6 +115,73 @@ static void assert_kind_bests(const SqFitResult *r, const SqFitOptions *o)
     for (int k = 0; k < SQ_FIT_KINDS; k++)
         if (r->kind_recoloured[k] && k != champion)
             assert_true(r->kind_best[k].score < r->category_score[k] || k == SQ_FIT_LAYERED);
+    /* then picked again on those bests: best.json's kind is the rule's pick, unless the
+     * pick's pattern cannot be seen; a new kind only so */
+    double score[SQ_FIT_KINDS];
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        score[k] = r->kind_best[k].score;
+    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED]);
+    assert_int_equal(r->repicked, champion != r->first_pick);
+    if (o->method != SQ_FIT_SQUAMA || r->stopped) {
+        assert_int_equal(r->repicked, 0);
+    } else if (pick != champion) {
+        double dom[3];
+        assert_int_equal(champion, r->first_pick);
+        const SqParams *p = &r->kind_best[pick].params;
+        assert_true(sq_fit_pattern_visibility(p, o->fine_size, o->band_centre, dom, NULL) < 0.02);
+    } else if (r->repicked && champion != SQ_PATTERN_NONE) {
+        assert_true(r->visibility >= 0.02);
+        assert_int_equal(r->plain_twin, 0);
+    }
+}
+
+/* The pick rule on each kind's score: a plain skin within 30% of the lowest, else the
+ * simplest kind within 5%, the lower of two as simple; the layered kind either one more
+ * of those or, searched over the champion, leading only by 20%. */
+static void the_pick_rule(void **state)
+{
+    (void)state;
+    double s[SQ_FIT_KINDS];
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        s[k] = INFINITY;
+    assert_int_equal(sq_fit_pick_kind(s, 0), -1);
+    assert_int_equal(sq_fit_pick_kind(s, 1), -1);
+    s[SQ_PATTERN_COMPLEX] = 1.0;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_COMPLEX);
+    s[SQ_PATTERN_OTHER_SIMPLE] = 1.04; /* within 5% and simpler */
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_OTHER_SIMPLE);
+    s[SQ_PATTERN_SPOTS] = 1.06; /* simpler still, but beyond 5% */
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_OTHER_SIMPLE);
+    s[SQ_PATTERN_TRANSVERSAL] = 1.045; /* stripes and bands as simple: the lower */
+    s[SQ_PATTERN_LONGITUDINAL] = 1.03;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_LONGITUDINAL);
+    s[SQ_PATTERN_LONGITUDINAL] = 1.051;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_TRANSVERSAL);
+    s[SQ_PATTERN_NONE] = 1.29; /* a plain skin within 30% */
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_NONE);
+    s[SQ_PATTERN_NONE] = 1.31;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_TRANSVERSAL);
+    /* a layered niche is one more kind, as simple as its rank (below reaction-diffusion) */
+    s[SQ_FIT_LAYERED] = 1.0;
+    assert_int_equal(sq_fit_pick_kind(s, 0), SQ_PATTERN_TRANSVERSAL);
+    s[SQ_FIT_LAYERED] = 0.9;
+    assert_int_equal(sq_fit_pick_kind(s, 0), SQ_FIT_LAYERED);
+    s[SQ_PATTERN_COMPLEX] = 0.9;
+    assert_int_equal(sq_fit_pick_kind(s, 0), SQ_FIT_LAYERED);
+    /* a layer over the champion leads only 20% better than the others' pick */
+    s[SQ_PATTERN_COMPLEX] = 1.0;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_TRANSVERSAL); /* 0.9 * 1.2 > 1.045 */
+    s[SQ_FIT_LAYERED] = 0.86;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_FIT_LAYERED); /* 0.86 * 1.2 < 1.045 */
+    s[SQ_PATTERN_NONE] = 1.1; /* the plain skin picked instead, and beaten by 20% too */
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_FIT_LAYERED);
+    s[SQ_FIT_LAYERED] = 0.95;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_PATTERN_NONE);
+    for (int k = 0; k < SQ_FIT_LAYERED; k++) /* the layered skin alone */
+        s[k] = INFINITY;
+    assert_int_equal(sq_fit_pick_kind(s, 1), SQ_FIT_LAYERED);
+    s[SQ_PATTERN_SPOTS] = NAN; /* no score is none */
+    assert_int_equal(sq_fit_pick_kind(s, 0), SQ_FIT_LAYERED);
 }
 
 /* The layer over the champion, when layered skins are asked for: searched over a stripe,
@@ -136,7 +203,7 @@ static void assert_layer_rule(const SqFitResult *r, const SqFitOptions *o)
     assert_true(r->layer_visibility <= 1);
     assert_int_equal(r->layer_lead, better && r->layer_visibility >= 0.05);
     assert_true(r->category_score[SQ_FIT_LAYERED] <= r->layer_score);
-    if (r->layer_lead) { /* then polished: the polish keeps the kind */
+    if (r->layer_lead && !r->repicked) { /* then polished: the polish keeps the kind */
         assert_int_equal(r->best.params.Pattern_Type, r->layer_base);
         assert_int_equal(r->best.params.Pattern_Layers.count, 1);
         assert_int_equal(r->best.params.Pattern_Layers.layer[0].spec.Pattern_Type, r->layer_kind);
@@ -679,6 +746,126 @@ static void the_champion_is_recoloured(void **state)
     sq_fit_result_free(&r);
 }
 
+/* A hand-made result after the recolouring: kinds' bests from the thesis' presets, an
+ * automaton picked first (as a plain twin) and leading a front of three. */
+static SqFitResult picked_first(double automaton, double spots, double layered)
+{
+    char path[4096];
+    SqError err;
+    SqFitResult r;
+    memset(&r, 0, sizeof r);
+    for (int k = 0; k < SQ_FIT_KINDS; k++)
+        r.kind_best[k].score = INFINITY;
+    SqFitCandidate *a = &r.kind_best[SQ_PATTERN_OTHER_SIMPLE], *s = &r.kind_best[SQ_PATTERN_SPOTS];
+    assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/thesis/figure_4_9_other_simple.json"),
+                                    &a->params, NULL, &err), SQ_OK);
+    thesis_spots(&s->params);
+    a->score = automaton;
+    s->score = spots;
+    a->view_scale = s->view_scale = 1;
+    for (int k = 0; k < SQ_OBJ_COUNT; k++) {
+        a->obj[k] = 1.0;
+        s->obj[k] = k == SQ_OBJ_PALETTE ? 1.5 : 0.5; /* the spots do not dominate it */
+    }
+    if (layered < INFINITY) {
+        SqFitCandidate *l = &r.kind_best[SQ_FIT_LAYERED];
+        assert_int_equal(sq_preset_load(src_path(path, sizeof path, "presets/layered/garter_snake.json"), &l->params,
+                                        NULL, &err), SQ_OK);
+        l->score = layered;
+        l->view_scale = 1;
+    }
+    SqFitCandidate *front = malloc(sizeof *front * 3);
+    assert_non_null(front);
+    r.best = front[0] = *a;
+    front[1] = front[0];
+    front[1].obj[0] = 2; /* dominated by the spots */
+    front[2] = front[0];
+    front[2].obj[SQ_OBJ_PALETTE] = 1.2; /* not dominated */
+    front[2].obj[SQ_OBJ_SHAPE] = 0.4;
+    r.front = front;
+    r.nfront = 3;
+    r.first_pick = SQ_PATTERN_OTHER_SIMPLE;
+    r.plain_twin = 1;
+    r.twin_score = 0.95;
+    r.visibility = 0.3;
+    return r;
+}
+
+/* The pick made again after the recolouring (sq__fit_repick): spots that now score better
+ * than the automaton picked first lead, with their kind's recolouring as best.json's; the
+ * first pick's plain twin is forgotten and what the spots dominate leaves the front. The
+ * same spots painted in their ground's colour cannot be seen: the automaton stays. A
+ * layered skin, not a niche, leads only 20% better than the spots; as a niche, as
+ * parsimony says. */
+static void picked_again_after_the_recolouring(void **state)
+{
+    (void)state;
+    const double before[SQ_FIT_KINDS] = {[SQ_PATTERN_SPOTS] = 0.9, [SQ_PATTERN_OTHER_SIMPLE] = 0.85};
+    const double after[SQ_FIT_KINDS] = {[SQ_PATTERN_SPOTS] = 0.7};
+    SqFitOptions o = sq_fit_options_default();
+    o.fine_size = 64;
+    SqFitResult r = picked_first(0.8, 0.7, INFINITY);
+    const SqFitCandidate first = r.front[0], kept = r.front[2];
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 1);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_PATTERN_SPOTS);
+    assert_memory_equal(&r.best, &r.kind_best[SQ_PATTERN_SPOTS], sizeof r.best);
+    assert_int_equal(r.first_pick, SQ_PATTERN_OTHER_SIMPLE);
+    assert_int_equal(r.nfront, 3); /* the first pick behind, front[1] dominated and gone */
+    assert_memory_equal(&r.front[0], &r.best, sizeof r.best);
+    assert_memory_equal(&r.front[1], &first, sizeof first);
+    assert_memory_equal(&r.front[2], &kept, sizeof kept);
+    assert_int_equal(r.plain_twin, 0);
+    assert_true(r.twin_score == 0);
+    assert_true(r.visibility >= 0.02 && r.visibility != 0.3);
+    assert_true(r.recolour_before == 0.9 && r.recolour_after == 0.7);
+    sq_fit_result_free(&r);
+
+    r = picked_first(0.8, 0.7, INFINITY); /* a front of two at most */
+    o.front_max = 2;
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.nfront, 2);
+    assert_memory_equal(&r.front[1], &first, sizeof first);
+    sq_fit_result_free(&r);
+    o.front_max = 24;
+
+    r = picked_first(0.8, 0.78, INFINITY); /* the spots within 5%: simpler */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_PATTERN_SPOTS);
+    sq_fit_result_free(&r);
+    r = picked_first(0.8, 0.85, INFINITY); /* beyond 5%: the automaton stays */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 0);
+    assert_memory_equal(&r.best, &first, sizeof first);
+    assert_int_equal(r.nfront, 3);
+    assert_int_equal(r.plain_twin, 1);
+    sq_fit_result_free(&r);
+
+    r = picked_first(0.8, 0.7, INFINITY); /* spots nobody can see */
+    SqParams *sp = &r.kind_best[SQ_PATTERN_SPOTS].params;
+    memcpy(sp->Spots_Color, sp->Background_Color, sizeof sp->Spots_Color);
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 0);
+    assert_memory_equal(&r.best, &first, sizeof first);
+    assert_int_equal(r.plain_twin, 1);
+    sq_fit_result_free(&r);
+
+    r = picked_first(0.8, 0.7, 0.6); /* a layer over the champion: not 20% better */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_PATTERN_SPOTS);
+    sq_fit_result_free(&r);
+    r = picked_first(0.8, 0.7, 0.6);
+    r.niche[SQ_FIT_LAYERED] = 1; /* a niche: the lowest score, the spots not within 5% */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 1);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_FIT_LAYERED);
+    sq_fit_result_free(&r);
+    r = picked_first(0.8, 0.7, 0.55); /* 20% better: leads, a niche or not */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_FIT_LAYERED);
+    sq_fit_result_free(&r);
+}
+
 /* Starting presets (SqFitOptions.starts): a start the fit cannot search is refused; those
  * of the kinds fitted are screened, at the screening grid's view scale that suits them and
  * with their colours moved toward the photo's palette. On a photo of the shipped cheetah
@@ -767,6 +954,8 @@ static void bad_options(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(the_pick_rule),
+        cmocka_unit_test(picked_again_after_the_recolouring),
         cmocka_unit_test(recovers_category),
         cmocka_unit_test(prefers_a_plain_skin),
         cmocka_unit_test(categories_fitted),

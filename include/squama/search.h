@@ -295,10 +295,11 @@ void sq_gp_ca_children(uint64_t *rng, const SqCa *parents, int n, const int *ran
  *     unless the twin scores more than 5% worse;
  *  4. every kind's best (SqFitResult.kind_best), the champion's included, with its colours
  *     moved toward the photo's palette three ways, kept when it scores better re-scored
- *     (the champion's only when a pattern that showed still shows, and a layer; its
- *     category stays the pick's; beyond an evaluation budget, within a time budget: the
- *     layer search and the polish leave it the time, at the pace the re-scoring's fine
- *     renders went).
+ *     (the champion's only when a pattern that showed still shows, and a layer; beyond an
+ *     evaluation budget, within a time budget: the layer search and the polish leave it
+ *     the time, at the pace the re-scoring's fine renders went); then the pick made again
+ *     on those bests (sq_fit_pick_kind; SqFitResult.repicked), a kind whose pattern
+ *     nobody can see not taken.
  * Evaluations run in parallel (OpenMP). With an evaluation budget and no time budget the
  * result depends only on the seed: it is the same for any number of threads. A time budget
  * ends the search wherever the clock stops it. */
@@ -412,6 +413,10 @@ typedef struct SqFitResult {
     int kind_recoloured[SQ_FIT_KINDS]; /* 1: this kind's best (best.json for its own kind)
                                           had its colours moved toward the photo's palette
                                           after the pick, and scores better so */
+    int first_pick;          /* the kind picked from the re-scored front (after the layer
+                                search, the polish and the plain twin) */
+    int repicked;            /* 1: picked again once every kind's best was recoloured, another
+                                kind leads (sq_fit_pick_kind); best.json is its best */
     int starts_used;         /* starting presets screened (of kinds fitted) */
     long recolour_evals;     /* the evaluations that recolouring took, beyond evals */
     double recolour_seconds; /* and the time */
@@ -484,6 +489,14 @@ double sq_fit_pattern_visibility(const SqParams *p, int size, double band_centre
  * differ by more than a CIEDE2000 of 5. The fit's layered skin leads only when at least
  * 0.05 (as a layered preset of squama seed must). -1 on error. */
 double sq_fit_layer_visibility(const SqParams *p, int size, double band_centre, SqError *err);
+
+/* The pick rule over each kind's best score (score[k]; INFINITY: none): a plain skin
+ * within 30% of the lowest score, else the simplest kind within 5% of it (plain, stripes
+ * or bands, spots, automata, layered, reaction-diffusion; of two as simple, the lower
+ * score), being the simpler explanation. With layer_lead the layered kind (a layer
+ * searched over the champion, not a niche) is not among those: it is picked only when it
+ * scores 20% better than their pick. -1: no kind has a score. */
+int sq_fit_pick_kind(const double score[SQ_FIT_KINDS], int layer_lead);
 
 /* The kinds a fit offers, in the order it offers them (best.json's kind, then each other
  * kind with a best by that best's score) into order; returns how many. */
