@@ -14,9 +14,9 @@ it prints the best combinations and, as a check against fitting 38 rows, the bes
 the even rows scored on the odd ones and back (docs/recovery.md, session 45).
 
 With --recoloured the pick is made again after the recolouring, on each kind's final score
-(kinds.KIND.score, recoloured where that scored better), the layered kind (unless it was a
-niche) leading only when it beats the others' pick by LAYER_LEAD, as search/fit.c's
-sq_fit_pick_kind does. Fits since session 59 pick again themselves (fit.json first_pick,
+(kinds.KIND.score, recoloured where that scored better), the layered kind (the layer
+searched over the champion, not the layered niche's best) leading only when it beats the
+others' pick by LAYER_LEAD, as search/fit.c's sq__fit_repick does. Fits since session 59 pick again themselves (fit.json first_pick,
 repicked): on their runs it names only the rows where the pattern picked could not be seen
 and the first pick stayed; on older runs, the rows a second pick would move.
 
@@ -52,7 +52,7 @@ def recoloured(fits):
     """The pick made again on the kinds' final scores; the rows it would move."""
     right = mine = 0
     for name, truth, j in fits:
-        lead = "layered" not in j.get("niches", [])
+        lead = "layered" not in j.get("niches", []) or j.get("layer_search", {}).get("kind_best", False)
         scores = {k: v["score"] for k, v in j["kinds"].items() if not (lead and k == "layered")}
         p = pick(scores, PLAIN, 0.05) if scores else None
         lay = j["kinds"].get("layered")

@@ -306,8 +306,8 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
                             "other kind's best have their colours moved toward the photo's palette, kept when "
                             "that scores better (kinds.KIND.recoloured; recolour) and, for the champion, when a "
                             "pattern or layer that showed still shows; then the pick is made again by the same "
-                            "rule on the kinds' bests so recoloured (a layered skin that was not a niche still "
-                            "needing its 20%, a pattern nobody can see not taken): first_pick is the kind picked "
+                            "rule on the kinds' bests so recoloured (the layer searched over the champion still "
+                            "needing its 20%, layer_search.kind_best; a pattern nobody can see not taken): first_pick is the kind picked "
                             "before, repicked says whether another one leads now");
     cJSON_AddStringToObject(root, "first_pick", sq_fit_kind_name(r->first_pick));
     cJSON_AddBoolToObject(root, "repicked", r->repicked);
@@ -350,7 +350,8 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
         cJSON_AddItemToObject(ls, "champion_score", sq__json_exact_number(r->layer_under));
         if (r->layer_visibility >= 0)
             cJSON_AddItemToObject(ls, "visibility", sq__json_exact_number(r->layer_visibility));
-        cJSON_AddBoolToObject(ls, "leads", r->layer_lead);
+        cJSON_AddBoolToObject(ls, "leads", r->layer_lead); /* then; the pick made again: repicked */
+        cJSON_AddBoolToObject(ls, "kind_best", r->layer_best_searched); /* kinds.layered is this skin */
     }
     cJSON_AddItemToObject(root, "norm", objectives_json(r->norm));
     cJSON_AddItemToObject(root, "view_scale", sq__json_exact_number(r->best.view_scale));

@@ -208,7 +208,7 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
     else
         cli_buf_put(&b, "The nlopt polish did not run (%s).", r->stopped ? "stopped early" : "no budget left");
     if (r->kind_recoloured[sq_fit_kind_of(&r->best.params)])
-        cli_buf_put(&b, " Its colours, moved toward the photo's palette, took it from %.3f to %.3f.", r->recolour_before,
+        cli_buf_put(&b, " best.json's colours, moved toward the photo's palette, took it from %.3f to %.3f.", r->recolour_before,
             r->recolour_after);
     cli_buf_put(&b, "</p>\n");
     cli_buf_put(&b, "<h2>Categories</h2>\n");
@@ -242,6 +242,8 @@ SqStatus cli_fit_report(const char *path, const char *photo_path, const SqFitRes
         else
             cli_buf_put(&b, "not the 20%% better a layered skin must be to lead (one pattern with a layer's freedom "
                             "gains up to that)");
+        if (r->repicked)
+            cli_buf_put(&b, "; that was before the recolouring, after which the pick was made again (above)");
         cli_buf_put(&b, ".</p>\n");
     }
     cli_buf_put(&b, "<figure><a href='kinds.png'><img class='wide' src='kinds.png' alt='each kind&#39;s best'></a>"

@@ -1742,6 +1742,7 @@ static void layer_search(Fit *f, const SqFitCandidate *fin, int nfin, const SqFi
     r->layer_base = base;
     r->layer_kind = best.params.Pattern_Layers.layer[0].spec.Pattern_Type;
     keep_kind_best(r, &best);
+    r->layer_best_searched = r->kind_best[SQ_FIT_LAYERED].score == best.score;
     if (!(best.score * (1 + LAYER_LEAD) < champ.score))
         return;
     r->layer_visibility = sq_fit_layer_visibility(&best.params, f->o.fine_size, f->o.band_centre, NULL);
@@ -1973,7 +1974,7 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
  * best.json; whoever it dominates leaves the front, but for a plain twin's invisible
  * pattern behind it (plain_twin). With ahead, c is another candidate, picked again: it goes
  * ahead of the champion, which stays unless c dominates it, the front growing by one up to
- * front_max (out of memory: c replaces it). */
+ * front_max (out of memory: c replaces it), and c's copy in the front, if any, leaves. */
 static void lead_front(SqFitResult *r, const SqFitCandidate *c, int ahead, int front_max)
 {
     const SqFitCandidate lead = *c;
@@ -1984,9 +1985,14 @@ static void lead_front(SqFitResult *r, const SqFitCandidate *c, int ahead, int f
         r->nfront++;
     }
     int k = 1;
-    for (int i = 1; i < r->nfront; i++)
-        if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(lead.obj, r->front[i].obj, SQ_OBJ_COUNT))
-            r->front[k++] = r->front[i];
+    for (int i = 1; i < r->nfront; i++) {
+        const SqFitCandidate *m = &r->front[i];
+        if (ahead && m->score == lead.score && m->view_scale == lead.view_scale &&
+            sq_fit_kind_of(&m->params) == sq_fit_kind_of(&lead.params))
+            continue;
+        if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(lead.obj, m->obj, SQ_OBJ_COUNT))
+            r->front[k++] = *m;
+    }
     r->nfront = k < front_max ? k : front_max;
     r->front[0] = r->best = lead;
 }
@@ -2096,7 +2102,7 @@ void sq__fit_repick(SqFitResult *r, const SqFitOptions *o, const double before[]
     double score[SQ_FIT_KINDS];
     for (int k = 0; k < SQ_FIT_KINDS; k++)
         score[k] = r->kind_best[k].score;
-    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED]);
+    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED] || r->layer_best_searched);
     if (pick < 0 || pick == r->first_pick)
         return;
     double vis = 0, dom[3];
@@ -2125,11 +2131,16 @@ static void kinds_final(Fit *f)
     SqFitResult *r = f->r;
     for (int i = 0; i < r->nfront; i++) {
         const int kind = sq_fit_kind_of(&r->front[i].params);
-        if (r->front[i].score < r->kind_best[kind].score)
+        if (r->front[i].score < r->kind_best[kind].score) {
             r->kind_best[kind] = r->front[i];
+            if (kind == SQ_FIT_LAYERED) /* the layer that led (behind its plain twin), or the niche's */
+                r->layer_best_searched = r->layer_lead && i == (r->plain_twin ? 1 : 0);
+        }
     }
     const int champion = sq_fit_kind_of(&r->best.params);
     r->kind_best[champion] = r->best;
+    if (champion == SQ_FIT_LAYERED)
+        r->layer_best_searched = r->layer_lead;
     r->first_pick = champion;
     SqFitCandidate *l = &r->kind_best[SQ_FIT_LAYERED];
     if (champion != SQ_FIT_LAYERED && isfinite(l->score) &&

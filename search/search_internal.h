@@ -49,11 +49,12 @@ void sq__recoloured(const struct SqFeatures *target, const struct SqFitCandidate
 struct SqFitResult;
 struct SqFitOptions;
 /* The fit's pick made again on every kind's best once recoloured (r->kind_best;
- * sq_fit_pick_kind, the layered kind leading only by 20% unless it was a niche), so that
- * no kind the fit offers scores better than best.json's under the rule that chose it. A
- * pattern nobody can see (sq_fit_pattern_visibility below 0.02 at o->fine_size) is not
- * picked: the champion stays. A new champion (r->repicked) goes ahead of it in the front
- * (r->front from malloc; whom it dominates leaves, o->front_max at most); the plain twin's
+ * sq_fit_pick_kind, the layered kind leading only by 20% unless it is the layered niche's
+ * best, not the layer searched over the champion: r->layer_best_searched), so that no kind
+ * the fit offers scores better than best.json's under the rule that chose it. A pattern
+ * nobody can see (sq_fit_pattern_visibility below 0.02 at o->fine_size) is not picked:
+ * the champion stays. A new champion (r->repicked) goes ahead of it in the front (r->front
+ * from malloc; whom it dominates and its own copy leave, o->front_max at most); the plain twin's
  * facts were the first pick's and are cleared, and r->recolour_before/after become
  * before[k] and after[k] of its kind k (each kind's score before its recolouring and its
  * best recoloured way's, 0: none). r->first_pick must be the kind of r->best. */

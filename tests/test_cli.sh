@@ -463,6 +463,7 @@ if l is not None:
     better = l["score"] * 1.2 < l["champion_score"]
     assert ("visibility" in l) == better, l  # measured only past the 20%
     assert l["leads"] == (better and l["visibility"] >= 0.05), l
+    assert isinstance(l["kind_best"], bool) and (l["kind_best"] or not l["leads"]), l  # the layer that led is its kind's best
     assert "A layer of " + l["layer"] in html
 PY
 fi

@@ -120,7 +120,7 @@ static void assert_kind_bests(const SqFitResult *r, const SqFitOptions *o)
     double score[SQ_FIT_KINDS];
     for (int k = 0; k < SQ_FIT_KINDS; k++)
         score[k] = r->kind_best[k].score;
-    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED]);
+    const int pick = sq_fit_pick_kind(score, !r->niche[SQ_FIT_LAYERED] || r->layer_best_searched);
     assert_int_equal(r->repicked, champion != r->first_pick);
     if (o->method != SQ_FIT_SQUAMA || r->stopped) {
         assert_int_equal(r->repicked, 0);
@@ -202,6 +202,8 @@ static void assert_layer_rule(const SqFitResult *r, const SqFitOptions *o)
     assert_int_equal(r->layer_visibility >= 0, better); /* measured only past the 20% */
     assert_true(r->layer_visibility <= 1);
     assert_int_equal(r->layer_lead, better && r->layer_visibility >= 0.05);
+    if (r->layer_lead) /* the layered kind's best, leading only by 20% when picked again */
+        assert_int_equal(r->layer_best_searched, 1);
     assert_true(r->category_score[SQ_FIT_LAYERED] <= r->layer_score);
     if (r->layer_lead && !r->repicked) { /* then polished: the polish keeps the kind */
         assert_int_equal(r->best.params.Pattern_Type, r->layer_base);
@@ -504,7 +506,8 @@ static void categories_fitted(void **state)
         assert_int_equal(r.niche[c], c != SQ_FIT_LAYERED);
     assert_layer_rule(&r, &o);
     assert_kind_bests(&r, &o);
-    assert_int_equal(r.best.params.Pattern_Layers.count, r.layer_lead);
+    if (!r.repicked)
+        assert_int_equal(r.best.params.Pattern_Layers.count, r.layer_lead);
     sq_fit_result_free(&r);
     o.categories = 1u << SQ_FIT_LAYERED; /* layered only: a base under one layer of another type */
     assert_int_equal(sq_fit_run(&target, &o, &r, &err), SQ_OK);
@@ -747,7 +750,8 @@ static void the_champion_is_recoloured(void **state)
 }
 
 /* A hand-made result after the recolouring: kinds' bests from the thesis' presets, an
- * automaton picked first (as a plain twin) and leading a front of three. */
+ * automaton picked first, leading a front of four: a copy it dominates, one it does not,
+ * and the spots' best. */
 static SqFitResult picked_first(double automaton, double spots, double layered)
 {
     char path[4096];
@@ -774,7 +778,7 @@ static SqFitResult picked_first(double automaton, double spots, double layered)
         l->score = layered;
         l->view_scale = 1;
     }
-    SqFitCandidate *front = malloc(sizeof *front * 3);
+    SqFitCandidate *front = malloc(sizeof *front * 4);
     assert_non_null(front);
     r.best = front[0] = *a;
     front[1] = front[0];
@@ -782,21 +786,40 @@ static SqFitResult picked_first(double automaton, double spots, double layered)
     front[2] = front[0];
     front[2].obj[SQ_OBJ_PALETTE] = 1.2; /* not dominated */
     front[2].obj[SQ_OBJ_SHAPE] = 0.4;
+    front[3] = *s;
     r.front = front;
-    r.nfront = 3;
+    r.nfront = 4;
     r.first_pick = SQ_PATTERN_OTHER_SIMPLE;
-    r.plain_twin = 1;
-    r.twin_score = 0.95;
     r.visibility = 0.3;
     return r;
 }
 
+/* The same, the first pick a plain twin (the automaton judged invisible), which the spots
+ * dominate, the automaton behind it. */
+static SqFitResult picked_first_as_a_twin(double spots)
+{
+    SqFitResult r = picked_first(0.8, spots, INFINITY);
+    SqFitCandidate twin = r.front[0];
+    twin.params.Pattern_Type = SQ_PATTERN_NONE;
+    twin.score = 0.84;
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        twin.obj[k] = 2;
+    memmove(r.front + 1, r.front, sizeof *r.front * 3); /* the spots' copy drops off */
+    r.front[0] = r.best = r.kind_best[SQ_PATTERN_NONE] = twin;
+    r.first_pick = SQ_PATTERN_NONE;
+    r.plain_twin = 1;
+    r.twin_score = 0.84;
+    r.visibility = 0.01;
+    return r;
+}
+
 /* The pick made again after the recolouring (sq__fit_repick): spots that now score better
- * than the automaton picked first lead, with their kind's recolouring as best.json's; the
- * first pick's plain twin is forgotten and what the spots dominate leaves the front. The
+ * than the automaton picked first lead, with their kind's recolouring as best.json's,
+ * ahead of the automaton; what the spots dominate and their own copy leave the front; a
+ * plain twin picked first is forgotten, and leaves too when the spots dominate it. The
  * same spots painted in their ground's colour cannot be seen: the automaton stays. A
- * layered skin, not a niche, leads only 20% better than the spots; as a niche, as
- * parsimony says. */
+ * layered skin, not a niche or the layer searched over the champion, leads only 20% better
+ * than the spots; the layered niche's best as parsimony says. */
 static void picked_again_after_the_recolouring(void **state)
 {
     (void)state;
@@ -815,10 +838,24 @@ static void picked_again_after_the_recolouring(void **state)
     assert_memory_equal(&r.front[0], &r.best, sizeof r.best);
     assert_memory_equal(&r.front[1], &first, sizeof first);
     assert_memory_equal(&r.front[2], &kept, sizeof kept);
-    assert_int_equal(r.plain_twin, 0);
-    assert_true(r.twin_score == 0);
     assert_true(r.visibility >= 0.02 && r.visibility != 0.3);
     assert_true(r.recolour_before == 0.9 && r.recolour_after == 0.7);
+    sq_fit_result_free(&r);
+
+    r = picked_first_as_a_twin(0.6);
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 1);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_PATTERN_SPOTS);
+    assert_int_equal(r.plain_twin, 0);
+    assert_true(r.twin_score == 0 && r.visibility >= 0.02);
+    assert_int_equal(r.nfront, 3); /* the spots, the automaton, the one they do not dominate */
+    for (int i = 0; i < r.nfront; i++)
+        assert_int_not_equal(sq_fit_kind_of(&r.front[i].params), SQ_PATTERN_NONE);
+    sq_fit_result_free(&r);
+    r = picked_first_as_a_twin(0.7); /* the twin within 30%: it stays */
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(r.repicked, 0);
+    assert_int_equal(r.plain_twin, 1);
     sq_fit_result_free(&r);
 
     r = picked_first(0.8, 0.7, INFINITY); /* a front of two at most */
@@ -837,8 +874,8 @@ static void picked_again_after_the_recolouring(void **state)
     sq__fit_repick(&r, &o, before, after);
     assert_int_equal(r.repicked, 0);
     assert_memory_equal(&r.best, &first, sizeof first);
-    assert_int_equal(r.nfront, 3);
-    assert_int_equal(r.plain_twin, 1);
+    assert_int_equal(r.nfront, 4);
+    assert_true(r.visibility == 0.3);
     sq_fit_result_free(&r);
 
     r = picked_first(0.8, 0.7, INFINITY); /* spots nobody can see */
@@ -847,7 +884,6 @@ static void picked_again_after_the_recolouring(void **state)
     sq__fit_repick(&r, &o, before, after);
     assert_int_equal(r.repicked, 0);
     assert_memory_equal(&r.best, &first, sizeof first);
-    assert_int_equal(r.plain_twin, 1);
     sq_fit_result_free(&r);
 
     r = picked_first(0.8, 0.7, 0.6); /* a layer over the champion: not 20% better */
@@ -859,6 +895,12 @@ static void picked_again_after_the_recolouring(void **state)
     sq__fit_repick(&r, &o, before, after);
     assert_int_equal(r.repicked, 1);
     assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_FIT_LAYERED);
+    sq_fit_result_free(&r);
+    r = picked_first(0.8, 0.7, 0.6);
+    r.niche[SQ_FIT_LAYERED] = 1; /* a niche, but its best the layer searched over the champion */
+    r.layer_best_searched = 1;
+    sq__fit_repick(&r, &o, before, after);
+    assert_int_equal(sq_fit_kind_of(&r.best.params), SQ_PATTERN_SPOTS);
     sq_fit_result_free(&r);
     r = picked_first(0.8, 0.7, 0.55); /* 20% better: leads, a niche or not */
     sq__fit_repick(&r, &o, before, after);

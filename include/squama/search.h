@@ -402,7 +402,7 @@ typedef struct SqFitResult {
     SqFitCandidate *front;   /* the re-scored Pareto front, by score (best first) */
     int nfront;
     double norm[SQ_OBJ_COUNT]; /* each objective's median over the screening: the score's scale */
-    double category_score[SQ_FIT_KINDS]; /* best score per kind, as the pick rule compared
+    double category_score[SQ_FIT_KINDS]; /* best score per kind, as the first pick compared
                                             them (before the polish); INFINITY: not tried */
     SqFitCandidate kind_best[SQ_FIT_KINDS]; /* each kind's best, re-scored (score INFINITY:
                                                none; a result made by hand must say so):
@@ -471,7 +471,10 @@ typedef struct SqFitResult {
     int layer_base, layer_kind; /* its base's and its layer's pattern types */
     double layer_visibility; /* when it beat the champion by 20%: how visible its layer is
                                 (sq_fit_layer_visibility); else -1, not measured */
-    int layer_lead;          /* 1: it beat the champion by 20%, its layer visible, and leads */
+    int layer_lead;          /* 1: it beat the champion by 20%, its layer visible, and led
+                                (the pick made again may have moved the lead since: repicked) */
+    int layer_best_searched; /* 1: kind_best[SQ_FIT_LAYERED] is that layered skin, which leads
+                                only by 20%, not the layered niche's best */
 } SqFitResult;
 
 SqFitOptions sq_fit_options_default(void);
