@@ -307,8 +307,8 @@ static SqStatus stage_outputs(CliStaging *s, const char *outdir, const char *pho
                             "that scores better (kinds.KIND.recoloured; recolour) and, for the champion, when a "
                             "pattern or layer that showed still shows; then the pick is made again by the same "
                             "rule on the kinds' bests so recoloured (the layer searched over the champion still "
-                            "needing its 20%, layer_search.kind_best; a pattern nobody can see not taken): first_pick is the kind picked "
-                            "before, repicked says whether another one leads now");
+                            "needing its 20%, layer_search.kind_best; a pattern nobody can see not taken): "
+                            "first_pick is the kind picked before, repicked says whether another one leads now");
     cJSON_AddStringToObject(root, "first_pick", sq_fit_kind_name(r->first_pick));
     cJSON_AddBoolToObject(root, "repicked", r->repicked);
     cJSON_AddItemToObject(root, "visibility", sq__json_exact_number(r->visibility));

@@ -1903,6 +1903,14 @@ static SqStatus check_options(const SqFitOptions *o, SqError *err)
     return SQ_OK;
 }
 
+/* Whether a and b are one candidate in two places (a front member and its copy as a kind's
+ * best or a pick): the same kind, score and view scale. */
+static int same_candidate(const SqFitCandidate *a, const SqFitCandidate *b)
+{
+    return a->score == b->score && a->view_scale == b->view_scale &&
+           sq_fit_kind_of(&a->params) == sq_fit_kind_of(&b->params);
+}
+
 /* The finalists' Pareto front, by score; the champion is its first. */
 static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
 {
@@ -1950,8 +1958,7 @@ static SqStatus finish(Fit *f, SqFitCandidate *fin, int nfin, SqError *err)
         r->front[0] = lead;
         r->nfront = k + 1;
         for (int i = 1; i < r->nfront; i++) /* once only */
-            if (sq_fit_kind_of(&r->front[i].params) == sq_fit_kind_of(&lead.params) && r->front[i].score == lead.score &&
-                r->front[i].view_scale == lead.view_scale) {
+            if (same_candidate(&r->front[i], &lead)) {
                 memmove(r->front + i, r->front + i + 1, sizeof *r->front * (size_t)(r->nfront - i - 1));
                 r->nfront--;
                 break;
@@ -1987,8 +1994,7 @@ static void lead_front(SqFitResult *r, const SqFitCandidate *c, int ahead, int f
     int k = 1;
     for (int i = 1; i < r->nfront; i++) {
         const SqFitCandidate *m = &r->front[i];
-        if (ahead && m->score == lead.score && m->view_scale == lead.view_scale &&
-            sq_fit_kind_of(&m->params) == sq_fit_kind_of(&lead.params))
+        if (ahead && same_candidate(m, &lead))
             continue;
         if ((i == 1 && r->plain_twin) || !sq_pareto_dominates(lead.obj, m->obj, SQ_OBJ_COUNT))
             r->front[k++] = *m;
