@@ -27,6 +27,11 @@
  *       the same (without the readings) for the preset's candidate strip at view scale VIEW
  *       under the key light, its maps SIZE texels square; with a photo, under the photo's
  *       light and blur, as a fit scores it against that photo
+ *   bench_recovery selfdist PRESET VIEW PHOTO MASK|- SEED0
+ *       the preset's distance to itself: its 4 instances under the pattern seeds SEED0+1
+ *       to SEED0+4, at view scale VIEW, each lit and blurred as the photo; the mean of the
+ *       fit's objectives between every pair, as a JSON array in sq_fit_objective_name's
+ *       order (bench/pick_replay.py --self-distance)
  *   (the kind-prior experiment's inputs: docs/recovery.md, session 35) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -277,6 +282,39 @@ static int tex_features_json(const char *preset, double view, int size, const ch
     return rc;
 }
 
+/* The mean objectives between the preset's RESEEDS instances (seeds seed0 + 1 on), each
+ * lit and blurred as the photo. */
+static int self_distance(const char *preset, double view, const char *photo, const char *mask, int seed0)
+{
+    SqParams p;
+    SqError e;
+    if (sq_preset_load(preset, &p, NULL, &e) != SQ_OK)
+        return fail(&e);
+    SqFeatures ph, key, lit[RESEEDS];
+    SqTextures maps = {0};
+    if (photo_features(photo, mask, &ph, NULL))
+        return 1;
+    for (int s = 0; s < RESEEDS; s++)
+        if (features(&p, seed0 + 1 + s, SIZE, view, &maps, &key, &ph, &lit[s])) {
+            sq_gen_textures_free(&maps);
+            return 1;
+        }
+    sq_gen_textures_free(&maps);
+    double mean[SQ_OBJ_COUNT] = {0}, obj[SQ_OBJ_COUNT];
+    int pairs = 0;
+    for (int a = 0; a < RESEEDS; a++)
+        for (int b = a + 1; b < RESEEDS; b++, pairs++) {
+            sq_fit_objectives(&lit[a], &lit[b], obj);
+            for (int k = 0; k < SQ_OBJ_COUNT; k++)
+                mean[k] += obj[k];
+        }
+    printf("[");
+    for (int k = 0; k < SQ_OBJ_COUNT; k++)
+        printf("%s%.6g", k ? ", " : "", mean[k] / pairs);
+    printf("]\n");
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 6 && strcmp(argv[1], "truth") == 0)
@@ -288,10 +326,13 @@ int main(int argc, char **argv)
     if ((argc == 5 || argc == 7) && strcmp(argv[1], "texfeatures") == 0)
         return tex_features_json(argv[2], atof(argv[3]), atoi(argv[4]), argc == 7 ? argv[5] : NULL,
                                  argc == 7 ? argv[6] : NULL);
+    if (argc == 7 && strcmp(argv[1], "selfdist") == 0)
+        return self_distance(argv[2], atof(argv[3]), argv[4], argv[5], atoi(argv[6]));
     fprintf(stderr, "usage: bench_recovery truth BASE.json CATEGORY SEED OUT.json\n"
                     "       bench_recovery compare TRUTH.json VIEW_T FIT.json VIEW_F PHOTO MASK NORM...\n"
                     "       (one NORM per objective, in the order of sq_fit_objective_name)\n"
                     "       bench_recovery features PHOTO MASK|-\n"
-                    "       bench_recovery texfeatures PRESET VIEW SIZE [PHOTO MASK|-]\n");
+                    "       bench_recovery texfeatures PRESET VIEW SIZE [PHOTO MASK|-]\n"
+                    "       bench_recovery selfdist PRESET VIEW PHOTO MASK|- SEED0\n");
     return 2;
 }

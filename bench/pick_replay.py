@@ -20,16 +20,30 @@ others' pick by LAYER_LEAD, as search/fit.c's sq__fit_repick does. Fits since se
 repicked): on their runs it names only the rows where the pattern picked could not be seen
 and the first pick stayed; on older runs, the rows a second pick would move.
 
+With --self-distance the same second pick is made on each kind's final score less ALPHA
+times its distance to itself: the mean of the fit's objectives (over its norms) between
+four instances of that kind's best, each under another pattern seed and lit and blurred
+as the photo (`bench_recovery selfdist`, --tool; kept beside each fit.json as
+self_distance.json). A kind whose pattern is drawn at random (spots, reaction-diffusion,
+a layer) cannot match one photo's instance as closely as a kind whose pattern is fixed
+by its genes (an automaton, stripes, bands), and the truth's own instances score no
+better; what a kind scores beyond its own instances' scatter is what it fails to explain
+(for squared distances, half the self-distance is the scatter's share: docs/recovery.md,
+session 60).
+
 usage: bench/pick_replay.py RUN_DIR [RUN_DIR ...] [--plain 0.05,0.1,0.3] [--parsimony 0.05]
        bench/pick_replay.py RUN_DIR [RUN_DIR ...] --weights 0.25,0.5,1,2,4
        bench/pick_replay.py RUN_DIR [RUN_DIR ...] --recoloured
+       bench/pick_replay.py RUN_DIR [RUN_DIR ...] --self-distance 0.1,0.25,0.5 --tool BENCH_RECOVERY
 (RUN_DIR: a recovery --out folder, e.g. build-bench/recovery; its NN_category/squama/fit.json)
 """
 import argparse
+import concurrent.futures
 import glob
 import itertools
 import json
 import os
+import subprocess
 
 OBJECTIVES = ("palette", "histogram", "shape", "along", "across")
 PLAIN = 0.3  # search/fit.c PLAIN_PARSIMONY
@@ -48,22 +62,65 @@ def pick(scores, plain, parsimony):
     return min(near, key=lambda k: (SIMPLICITY[k], scores[k]))
 
 
+def repick(j, less=None):
+    """The pick made on the kinds' final scores, each less[kind] lower (kept above 0.02)."""
+    lead = "layered" not in j.get("niches", []) or j.get("layer_search", {}).get("kind_best", False)
+    final = {k: max(0.02, v["score"] - (less or {}).get(k, 0)) for k, v in j["kinds"].items()}
+    scores = {k: v for k, v in final.items() if not (lead and k == "layered")}
+    p = pick(scores, PLAIN, 0.05) if scores else None
+    if lead and "layered" in final and (p is None or final["layered"] * (1 + LAYER_LEAD) < scores[p]):
+        p = "layered"
+    return p
+
+
 def recoloured(fits):
     """The pick made again on the kinds' final scores; the rows it would move."""
     right = mine = 0
     for name, truth, j in fits:
-        lead = "layered" not in j.get("niches", []) or j.get("layer_search", {}).get("kind_best", False)
-        scores = {k: v["score"] for k, v in j["kinds"].items() if not (lead and k == "layered")}
-        p = pick(scores, PLAIN, 0.05) if scores else None
-        lay = j["kinds"].get("layered")
-        if lead and lay and (p is None or lay["score"] * (1 + LAYER_LEAD) < scores[p]):
-            p = "layered"
+        p = repick(j)
         right += p == truth
         mine += j["category"] == truth
         if p != j["category"]:
             print("%s: %s -> %s (%s); %s" % (name, j.get("first_pick", j["category"]), p, "right" if p == truth else "wrong", ", ".join(
                 "%s %.3f" % kv for kv in sorted(((k, v["score"]) for k, v in j["kinds"].items()), key=lambda kv: kv[1])[:3])))
     print("re-picked after the recolouring: %d of %d right (the fits' own: %d)" % (right, len(fits), mine))
+
+
+def self_distance(tool, d, j):
+    """Each kind's best's distance to itself (over the fit's norms), computed once and kept
+    in d/squama/self_distance.json: {kind: [the mean objectives between its instances]}."""
+    path = os.path.join(d, "squama", "self_distance.json")
+    kept = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            kept = json.load(f)
+    for k, v in j["kinds"].items():
+        if k not in kept:
+            out = subprocess.run([tool, "selfdist", os.path.join(d, "squama", "kinds", k + ".json"),
+                                  "%.6f" % v["view_scale"], os.path.join(d, "photo.jpg"),
+                                  os.path.join(d, "photo_mask.png"), "10"], capture_output=True, text=True)
+            if out.returncode != 0:
+                raise SystemExit("pick_replay: bench_recovery selfdist failed in %s: %s" % (d, out.stderr.strip()))
+            kept[k] = json.loads(out.stdout)
+    with open(path + ".tmp", "w") as f:
+        json.dump(kept, f)
+    os.replace(path + ".tmp", path)
+    return {k: sum(x / j["norm"][o] for x, o in zip(kept[k], OBJECTIVES)) for k in j["kinds"]}
+
+
+def self_distanced(fits, tool, alphas):
+    """The second pick on each kind's score less alpha times its self-distance."""
+    with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+        ds = list(pool.map(lambda f: self_distance(tool, f[0], f[3]), fits))
+    for a in alphas:
+        right, moved = 0, []
+        for (d, name, truth, j), sd in zip(fits, ds):
+            p = repick(j, {k: a * v for k, v in sd.items()})
+            right += p == truth
+            if p != repick(j):
+                moved.append("%s/%s %s -> %s%s" % (os.path.basename(os.path.dirname(d)), name[:2], repick(j), p,
+                                                   " (right)" if p == truth else (" (was right)" if repick(j) == truth else "")))
+        print("less %.2f of the self-distance: %d of %d right; moved: %s" % (a, right, len(fits), ", ".join(moved) or "none"))
 
 
 def weighed(fits, grid):
@@ -101,6 +158,9 @@ def main():
                     help="the margin for every other kind (default 0.05, as search/fit.c)")
     ap.add_argument("--weights", help="weigh the objectives anew: the weights each may take, comma-separated")
     ap.add_argument("--recoloured", action="store_true", help="pick again on the kinds' recoloured scores")
+    ap.add_argument("--self-distance", help="pick again on the final scores less these fractions of each kind's "
+                    "distance to itself, comma-separated (needs --tool)")
+    ap.add_argument("--tool", help="bench_recovery, for --self-distance")
     args = ap.parse_args()
     kept = []  # (run, NN_category, fit.json)
     for run in args.runs:
@@ -111,6 +171,13 @@ def main():
                     kept.append((run, os.path.basename(d), json.load(f)))
     if not kept:
         raise SystemExit("pick_replay: no fit.json under " + ", ".join(args.runs))
+    if args.self_distance:
+        if not args.tool or not os.access(args.tool, os.X_OK):
+            raise SystemExit("pick_replay: --self-distance needs --tool, the bench_recovery program (%s)"
+                             % (args.tool or "not given"))
+        self_distanced([(os.path.join(run, name), name, name[3:], j) for run, name, j in kept], args.tool,
+                       [float(x) for x in args.self_distance.split(",")])
+        return
     if args.recoloured:
         recoloured([("%s/%s" % (os.path.basename(run.rstrip("/")), name), name[3:], j) for run, name, j in kept])
         return
