@@ -34,6 +34,7 @@
  *       order (bench/pick_replay.py --self-distance)
  *   (the kind-prior experiment's inputs: docs/recovery.md, session 35) */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -286,6 +287,10 @@ static int tex_features_json(const char *preset, double view, int size, const ch
  * lit and blurred as the photo. */
 static int self_distance(const char *preset, double view, const char *photo, const char *mask, int seed0)
 {
+    if (!(view > 0) || !isfinite(view)) {
+        fprintf(stderr, "bench_recovery: selfdist wants a view scale over 0\n");
+        return 1;
+    }
     SqParams p;
     SqError e;
     if (sq_preset_load(preset, &p, NULL, &e) != SQ_OK)

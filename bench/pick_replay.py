@@ -65,7 +65,7 @@ def pick(scores, plain, parsimony):
 def repick(j, less=None):
     """The pick made on the kinds' final scores, each less[kind] lower (kept above 0.02)."""
     lead = "layered" not in j.get("niches", []) or j.get("layer_search", {}).get("kind_best", False)
-    final = {k: max(0.02, v["score"] - (less or {}).get(k, 0)) for k, v in j["kinds"].items()}
+    final = {k: max(0.02, v["score"] - less.get(k, 0)) if less else v["score"] for k, v in j["kinds"].items()}
     scores = {k: v for k, v in final.items() if not (lead and k == "layered")}
     p = pick(scores, PLAIN, 0.05) if scores else None
     if lead and "layered" in final and (p is None or final["layered"] * (1 + LAYER_LEAD) < scores[p]):
@@ -88,24 +88,35 @@ def recoloured(fits):
 
 def self_distance(tool, d, j):
     """Each kind's best's distance to itself (over the fit's norms), computed once and kept
-    in d/squama/self_distance.json: {kind: [the mean objectives between its instances]}."""
+    in d/squama/self_distance.json: {kind: {view_scale, score, objectives: the mean
+    objectives between its instances}}, computed again where the fit has changed since."""
     path = os.path.join(d, "squama", "self_distance.json")
     kept = {}
     if os.path.exists(path):
         with open(path) as f:
             kept = json.load(f)
+    failed = None
     for k, v in j["kinds"].items():
-        if k not in kept:
+        e = kept.get(k)
+        if isinstance(e, dict) and e.get("view_scale") == v["view_scale"] and e.get("score") == v["score"]:
+            continue
+        try:
             out = subprocess.run([tool, "selfdist", os.path.join(d, "squama", "kinds", k + ".json"),
                                   "%.6f" % v["view_scale"], os.path.join(d, "photo.jpg"),
                                   os.path.join(d, "photo_mask.png"), "10"], capture_output=True, text=True)
-            if out.returncode != 0:
-                raise SystemExit("pick_replay: bench_recovery selfdist failed in %s: %s" % (d, out.stderr.strip()))
-            kept[k] = json.loads(out.stdout)
-    with open(path + ".tmp", "w") as f:
+        except OSError as x:
+            failed = "cannot run %s: %s" % (tool, x)
+            break
+        if out.returncode != 0:
+            failed = "bench_recovery selfdist failed in %s: %s" % (d, out.stderr.strip())
+            break
+        kept[k] = {"view_scale": v["view_scale"], "score": v["score"], "objectives": json.loads(out.stdout)}
+    with open(path + ".tmp", "w") as f:  # what was measured is kept, even when a kind failed
         json.dump(kept, f)
     os.replace(path + ".tmp", path)
-    return {k: sum(x / j["norm"][o] for x, o in zip(kept[k], OBJECTIVES)) for k in j["kinds"]}
+    if failed:
+        raise SystemExit("pick_replay: " + failed)
+    return {k: sum(x / j["norm"][o] for x, o in zip(kept[k]["objectives"], OBJECTIVES)) for k in j["kinds"]}
 
 
 def self_distanced(fits, tool, alphas):
@@ -115,11 +126,13 @@ def self_distanced(fits, tool, alphas):
     for a in alphas:
         right, moved = 0, []
         for (d, name, truth, j), sd in zip(fits, ds):
+            own = j["category"]  # the fit's own pick (it keeps the first where the new one cannot be seen)
             p = repick(j, {k: a * v for k, v in sd.items()})
+            p = own if p == repick(j) else p
             right += p == truth
-            if p != repick(j):
-                moved.append("%s/%s %s -> %s%s" % (os.path.basename(os.path.dirname(d)), name[:2], repick(j), p,
-                                                   " (right)" if p == truth else (" (was right)" if repick(j) == truth else "")))
+            if p != own:
+                moved.append("%s/%s %s -> %s%s" % (os.path.basename(os.path.dirname(d)), name[:2], own, p,
+                                                   " (right)" if p == truth else (" (was right)" if own == truth else "")))
         print("less %.2f of the self-distance: %d of %d right; moved: %s" % (a, right, len(fits), ", ".join(moved) or "none"))
 
 
@@ -172,7 +185,7 @@ def main():
     if not kept:
         raise SystemExit("pick_replay: no fit.json under " + ", ".join(args.runs))
     if args.self_distance:
-        if not args.tool or not os.access(args.tool, os.X_OK):
+        if not args.tool or not os.path.isfile(args.tool) or not os.access(args.tool, os.X_OK):
             raise SystemExit("pick_replay: --self-distance needs --tool, the bench_recovery program (%s)"
                              % (args.tool or "not given"))
         self_distanced([(os.path.join(run, name), name, name[3:], j) for run, name, j in kept], args.tool,
