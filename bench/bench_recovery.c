@@ -114,8 +114,8 @@ static int truth(const char *base, const char *category, long seed, const char *
 }
 
 /* A preset's features at a view scale, its maps size texels square: under the key light
- * (texture space), and when photo is not NULL under the photo's light too (as the fit sees
- * it against the photo). */
+ * (texture space; key NULL: not wanted), and when photo is not NULL under the photo's
+ * light too (as the fit sees it against the photo). */
 static int features(const SqParams *p, int seed, int size, double view, SqTextures *maps, SqFeatures *key,
                     const SqFeatures *photo, SqFeatures *lit)
 {
@@ -125,7 +125,7 @@ static int features(const SqParams *p, int seed, int size, double view, SqTextur
     SqError e;
     if (sq_gen_render_into(&q, &go, maps, &e) != SQ_OK)
         return fail(&e);
-    for (int k = 0; k < (photo ? 2 : 1); k++) {
+    for (int k = key ? 0 : 1; k < (photo ? 2 : 1); k++) {
         SqImage strip = {0};
         if (sq_fit_candidate_strip(&maps->basecolor, &maps->normal, &maps->roughness, k ? &photo->light : NULL, view,
                                    0.5, ROWS, &strip, &e) != SQ_OK ||
@@ -295,12 +295,12 @@ static int self_distance(const char *preset, double view, const char *photo, con
     SqError e;
     if (sq_preset_load(preset, &p, NULL, &e) != SQ_OK)
         return fail(&e);
-    SqFeatures ph, key, lit[RESEEDS];
+    SqFeatures ph, lit[RESEEDS];
     SqTextures maps = {0};
     if (photo_features(photo, mask, &ph, NULL))
         return 1;
     for (int s = 0; s < RESEEDS; s++)
-        if (features(&p, seed0 + 1 + s, SIZE, view, &maps, &key, &ph, &lit[s])) {
+        if (features(&p, seed0 + 1 + s, SIZE, view, &maps, NULL, &ph, &lit[s])) {
             sq_gen_textures_free(&maps);
             return 1;
         }

@@ -123,12 +123,13 @@ def self_distanced(fits, tool, alphas):
     """The second pick on each kind's score less alpha times its self-distance."""
     with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
         ds = list(pool.map(lambda f: self_distance(tool, f[0], f[3]), fits))
+    rule = {d: repick(j) for d, _, _, j in fits}  # the rule's pick without the self-distance
     for a in alphas:
         right, moved = 0, []
         for (d, name, truth, j), sd in zip(fits, ds):
             own = j["category"]  # the fit's own pick (it keeps the first where the new one cannot be seen)
             p = repick(j, {k: a * v for k, v in sd.items()})
-            p = own if p == repick(j) else p
+            p = own if p == rule[d] else p
             right += p == truth
             if p != own:
                 moved.append("%s/%s %s -> %s%s" % (os.path.basename(os.path.dirname(d)), name[:2], own, p,
