@@ -42,9 +42,13 @@ enum { FIT_RD_CELLS = 48 };
  * VISIBLE_DE (CIEDE2000, a difference anyone sees side by side). */
 static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
 
-/* The search (screening and evolution, or a baseline) ends at this share of the budget;
- * re-scoring and the polish have the rest. */
+/* The search (screening and evolution) ends at this share of the budget; re-scoring, the
+ * layer search and the polish have the rest. */
 static const double SEARCH_END = 0.8;
+
+/* A baseline, which has no layer search or polish, searches to this share of a time
+ * budget; of an evaluation budget, to all of it but its one finalist's re-scoring. */
+static const double BASELINE_END = 0.95;
 
 /* The view scale gene: log scale over lo..hi (the niches': SQ__VIEW_LO..SQ__VIEW_HI). */
 static double view_to_x_in(double v, double lo, double hi)
@@ -1769,6 +1773,13 @@ typedef struct Baseline {
     int seed;
 } Baseline;
 
+/* Whether a baseline's search is over its share of a time budget (or stopped); its
+ * evaluations are counted down in Baseline.left. */
+static int baseline_over(const Fit *f)
+{
+    return (f->o.stop && *f->o.stop) || (f->o.budget > 0 && elapsed(f) >= BASELINE_END * f->o.budget);
+}
+
 static double baseline_objective(unsigned n, const double *x, double *grad, void *data)
 {
     (void)n;
@@ -1784,7 +1795,7 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     score_of(b->f, &c);
     if (c.score < b->best.score)
         b->best = c;
-    if (--b->left <= 0 || out_of_budget(b->f, SEARCH_END))
+    if (--b->left <= 0 || baseline_over(b->f))
         nlopt_force_stop(b->opt);
     return isfinite(c.score) ? c.score : 1e30;
 }
@@ -1797,13 +1808,13 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
         return;
     int n = g.n + 1;
     Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed};
-    long total = f->o.max_evals > 0 ? (long)(SEARCH_END * (double)f->o.max_evals) - f->evals : 1000000;
+    long total = f->o.max_evals > 0 ? f->o.max_evals - f->evals - f->o.reseeds : 1000000;
     b.left = total > 1 ? total : 1;
     double x[SQ_GENOME_MAX + 1];
     sq_genome_encode(&g, &start->params, x);
     x[g.n] = view_to_x(start->view_scale);
     if (f->o.method == SQ_FIT_RANDOM) {
-        while (b.left > 0 && !out_of_budget(f, SEARCH_END)) {
+        while (b.left > 0 && !baseline_over(f)) {
             for (int i = 0; i < n; i++)
                 x[i] = sq__rng_uniform(&f->rng);
             b.opt = NULL;

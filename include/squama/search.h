@@ -331,8 +331,8 @@ typedef enum SqFitMethod {
     SQ_FIT_SQUAMA = 0, /* the three stages above */
     SQ_FIT_RANDOM,     /* baselines: after the same screening, the best category's genome */
     SQ_FIT_ESCH,       /* searched by random sampling or one of nlopt's global optimisers */
-    SQ_FIT_CRS2,       /* on one scalar (the pick rule's score), the same evaluation */
-    SQ_FIT_ISRES       /* budget, then the same re-scoring */
+    SQ_FIT_CRS2,       /* on one scalar (the pick rule's score) to the end of the budget, */
+    SQ_FIT_ISRES       /* less the re-scoring of its best, which follows (no layer or polish) */
 } SqFitMethod;
 
 typedef struct SqFitCandidate {
