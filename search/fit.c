@@ -1773,11 +1773,31 @@ typedef struct Baseline {
     int seed;
 } Baseline;
 
+/* A baseline reports its progress (the history, the progress bar) every this many
+ * evaluations, a generation each. */
+enum { BASELINE_GENERATION = 50 };
+
 /* Whether a baseline's search is over its share of a time budget (or stopped); its
  * evaluations are counted down in Baseline.left. */
 static int baseline_over(const Fit *f)
 {
     return (f->o.stop && *f->o.stop) || (f->o.budget > 0 && elapsed(f) >= BASELINE_END * f->o.budget);
+}
+
+/* c, a baseline's candidate just scored, counted: the best kept, a generation reported
+ * every BASELINE_GENERATION evaluations. */
+static void baseline_scored(Baseline *b, const SqFitCandidate *c)
+{
+    Fit *f = b->f;
+    f->evals++;
+    b->left--;
+    note_best(f, c, 1);
+    if (c->score < b->best.score)
+        b->best = *c;
+    if (f->evals % BASELINE_GENERATION == 0) {
+        f->generation++;
+        report(f, "evolve", sq_fit_kind_of(&b->base.params));
+    }
 }
 
 static double baseline_objective(unsigned n, const double *x, double *grad, void *data)
@@ -1791,11 +1811,9 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     c.params.Seed = b->seed;
     /* nlopt's optimisers move the continuous genes only: the automaton stays the screened one */
     evaluate(b->f, &c, b->f->o.coarse_size, 1, &b->f->maps[0]);
-    b->f->evals++;
     score_of(b->f, &c);
-    if (c.score < b->best.score)
-        b->best = c;
-    if (--b->left <= 0 || baseline_over(b->f))
+    baseline_scored(b, &c);
+    if (b->left <= 0 || baseline_over(b->f))
         nlopt_force_stop(b->opt);
     return isfinite(c.score) ? c.score : 1e30;
 }
@@ -1826,11 +1844,8 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
                 sq_gp_ca_random(&s, &c.params.CA_Descriptor);
             }
             evaluate(f, &c, f->o.coarse_size, 1, &f->maps[0]);
-            f->evals++;
-            b.left--;
             score_of(f, &c);
-            if (c.score < b.best.score)
-                b.best = c;
+            baseline_scored(&b, &c);
         }
     } else {
         nlopt_algorithm alg = f->o.method == SQ_FIT_ESCH ? NLOPT_GN_ESCH

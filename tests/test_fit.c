@@ -671,6 +671,16 @@ static void baselines_run_on_the_same_budget(void **state)
         printf("  method %d: %ld evaluations\n", m, r.evals);
         /* searching to the budget less the re-scoring of the one finalist, then that */
         assert_true(r.evals >= 240 && r.evals <= 250 + o.reseeds);
+        /* its progress reported a generation every 50 evaluations, the best never worse */
+        int generations = 0;
+        for (int i = 0; i < r.nhistory; i++) {
+            generations += strcmp(r.history[i].stage, "evolve") == 0;
+            if (i > 0) {
+                assert_true(r.history[i].evals >= r.history[i - 1].evals);
+                assert_true(r.history[i].best_score <= r.history[i - 1].best_score);
+            }
+        }
+        assert_true(generations >= 2);
         assert_true(isfinite(r.best.score));
         assert_kind_bests(&r, &o);
         sq_fit_result_free(&r);
