@@ -47,7 +47,8 @@ static const double VISIBLE_DE = 5.0, VISIBLE_MIN = 0.02;
 static const double SEARCH_END = 0.8;
 
 /* A baseline, which has no layer search or polish, searches to this share of a time
- * budget; of an evaluation budget, to all of it but its one finalist's re-scoring. */
+ * budget; of an evaluation budget, to all of it but its one finalist's re-scoring (counted
+ * down in Baseline.left). */
 static const double BASELINE_END = 0.95;
 
 /* The view scale gene: log scale over lo..hi (the niches': SQ__VIEW_LO..SQ__VIEW_HI). */
@@ -161,17 +162,18 @@ static double elapsed(const Fit *f)
     return now() - f->t0;
 }
 
+/* 1 when the caller asked to stop or the clock is past fraction of a time budget. */
+static int out_of_time(const Fit *f, double fraction)
+{
+    return (f->o.stop && *f->o.stop) || (f->o.budget > 0 && elapsed(f) >= fraction * f->o.budget);
+}
+
 /* 1 when the search must end: the caller's flag, the clock, or the evaluations (each as a
  * fraction of the whole budget). */
 static int out_of_budget(const Fit *f, double fraction)
 {
-    if (f->o.stop && *f->o.stop)
-        return 1;
-    if (f->o.budget > 0 && elapsed(f) >= fraction * f->o.budget)
-        return 1;
-    if (f->o.max_evals > 0 && f->evals >= (long)(fraction * (double)f->o.max_evals))
-        return 1;
-    return 0;
+    return out_of_time(f, fraction) ||
+           (f->o.max_evals > 0 && f->evals >= (long)(fraction * (double)f->o.max_evals));
 }
 
 /* How far the search is through its budget: the larger of its clock's and its
@@ -1777,13 +1779,6 @@ typedef struct Baseline {
  * evaluations, a generation each. */
 enum { BASELINE_GENERATION = 50 };
 
-/* Whether a baseline's search is over its share of a time budget (or stopped); its
- * evaluations are counted down in Baseline.left. */
-static int baseline_over(const Fit *f)
-{
-    return (f->o.stop && *f->o.stop) || (f->o.budget > 0 && elapsed(f) >= BASELINE_END * f->o.budget);
-}
-
 /* c, a baseline's candidate just scored, counted: the best kept, a generation reported
  * every BASELINE_GENERATION evaluations. */
 static void baseline_scored(Baseline *b, const SqFitCandidate *c)
@@ -1813,7 +1808,7 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     evaluate(b->f, &c, b->f->o.coarse_size, 1, &b->f->maps[0]);
     score_of(b->f, &c);
     baseline_scored(b, &c);
-    if (b->left <= 0 || baseline_over(b->f))
+    if (b->left <= 0 || out_of_time(b->f, BASELINE_END))
         nlopt_force_stop(b->opt);
     return isfinite(c.score) ? c.score : 1e30;
 }
@@ -1832,7 +1827,7 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
     sq_genome_encode(&g, &start->params, x);
     x[g.n] = view_to_x(start->view_scale);
     if (f->o.method == SQ_FIT_RANDOM) {
-        while (b.left > 0 && !baseline_over(f)) {
+        while (b.left > 0 && !out_of_time(f, BASELINE_END)) {
             for (int i = 0; i < n; i++)
                 x[i] = sq__rng_uniform(&f->rng);
             b.opt = NULL;
