@@ -1773,6 +1773,9 @@ typedef struct Baseline {
     nlopt_opt opt;
     long left;
     int seed;
+    double t0; /* when its search began, and the evaluations then: its pace */
+    long evals0;
+    int over; /* 1: stopped (nlopt's CRS2 asks on through its first population regardless) */
 } Baseline;
 
 /* A baseline reports its progress (the history, the progress bar) every this many
@@ -1795,11 +1798,31 @@ static void baseline_scored(Baseline *b, const SqFitCandidate *c)
     }
 }
 
+/* 1 when a baseline must stop: the caller's flag, its evaluations, or a time budget at
+ * BASELINE_END or where what follows would overrun it (tail_seconds: its finalist's
+ * re-scoring standing for the polish's, the plain twin's, the kinds' recolouring), at the
+ * pace of its own coarse renders, one thread each (a round of fine renders on every
+ * thread costs (fine / coarse)^2 of one). */
+static int baseline_over(const Baseline *b)
+{
+    const Fit *f = b->f;
+    if (b->left <= 0 || out_of_time(f, BASELINE_END))
+        return 1;
+    const long n = f->evals - b->evals0;
+    if (f->o.budget <= 0 || n < 1)
+        return 0;
+    const double ratio = (double)f->o.fine_size / f->o.coarse_size;
+    const double per = (now() - b->t0) / (double)n * ratio * ratio;
+    return elapsed(f) + tail_seconds(f, per) >= f->o.budget;
+}
+
 static double baseline_objective(unsigned n, const double *x, double *grad, void *data)
 {
     (void)n;
     (void)grad;
     Baseline *b = data;
+    if (b->over)
+        return 1e30;
     SqFitCandidate c = b->base;
     sq_genome_decode(b->g, x, &c.params);
     c.view_scale = x_to_view(x[b->g->n]);
@@ -1808,8 +1831,10 @@ static double baseline_objective(unsigned n, const double *x, double *grad, void
     evaluate(b->f, &c, b->f->o.coarse_size, 1, &b->f->maps[0]);
     score_of(b->f, &c);
     baseline_scored(b, &c);
-    if (b->left <= 0 || out_of_time(b->f, BASELINE_END))
+    if (baseline_over(b)) {
+        b->over = 1;
         nlopt_force_stop(b->opt);
+    }
     return isfinite(c.score) ? c.score : 1e30;
 }
 
@@ -1820,14 +1845,15 @@ static void run_baseline(Fit *f, const SqFitCandidate *start, SqFitCandidate *ou
     if (sq_genome_of(&g, &start->params, NULL) != SQ_OK)
         return;
     int n = g.n + 1;
-    Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed};
+    Baseline b = {.f = f, .g = &g, .base = *start, .best = *start, .seed = start->params.Seed, .t0 = now(),
+                  .evals0 = f->evals};
     long total = f->o.max_evals > 0 ? f->o.max_evals - f->evals - f->o.reseeds : 1000000;
     b.left = total > 1 ? total : 1;
     double x[SQ_GENOME_MAX + 1];
     sq_genome_encode(&g, &start->params, x);
     x[g.n] = view_to_x(start->view_scale);
     if (f->o.method == SQ_FIT_RANDOM) {
-        while (b.left > 0 && !out_of_time(f, BASELINE_END)) {
+        while (!baseline_over(&b)) {
             for (int i = 0; i < n; i++)
                 x[i] = sq__rng_uniform(&f->rng);
             b.opt = NULL;

@@ -658,6 +658,30 @@ static void stop_request_keeps_a_result(void **state)
     sq_fit_result_free(&r);
 }
 
+/* A baseline asked to stop stops at once: nlopt's CRS2 and ISRES ask for their whole first
+ * population (10 and 20 times the genes) whatever the objective says, so a stopped baseline
+ * scores nothing more; under a time budget that population ran far past it (a 10 s fit of
+ * a complex photo took 67 s on a busy machine). */
+static void a_stopped_baseline_stops(void **state)
+{
+    (void)state;
+    for (int m = SQ_FIT_RANDOM; m <= SQ_FIT_ISRES; m++) {
+        volatile int stop = 1;
+        SqFitOptions o = small(1);
+        o.max_evals = 100000;
+        o.method = (SqFitMethod)m;
+        o.stop = &stop;
+        SqFitResult r;
+        assert_int_equal(sq_fit_run(&target, &o, &r, NULL), SQ_OK);
+        const long screened = r.history[0].evals;
+        printf("  method %d: %ld evaluations, %ld of them screening\n", m, r.evals, screened);
+        assert_true(r.stopped);
+        /* one candidate scored, the finalist re-scored, perhaps its plain twin too */
+        assert_true(r.evals <= screened + 1 + 2 * o.reseeds);
+        sq_fit_result_free(&r);
+    }
+}
+
 static void baselines_run_on_the_same_budget(void **state)
 {
     (void)state;
@@ -1021,6 +1045,7 @@ int main(void)
         cmocka_unit_test(same_result_on_any_thread_count),
         cmocka_unit_test(stop_request_keeps_a_result),
         cmocka_unit_test(baselines_run_on_the_same_budget),
+        cmocka_unit_test(a_stopped_baseline_stops),
         cmocka_unit_test(recolouring_brings_the_colours_back),
         cmocka_unit_test(the_champion_is_recoloured),
         cmocka_unit_test(starting_presets_are_screened),
